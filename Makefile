@@ -1,0 +1,39 @@
+# The two commands a new user runs are `make demo` and `make test` (README). Both install the
+# Debian packages that are missing, configure and build first.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+DEMO_OUT ?= demo_out
+
+.PHONY: all deps configure build test demo bench format clean
+
+all: build
+
+deps:
+	@bash scripts/install_deps.sh
+
+configure: deps
+	@if [ ! -f $(BUILD_DIR)/CMakeCache.txt ]; then \
+	  generator="Unix Makefiles"; command -v ninja >/dev/null && generator=Ninja; \
+	  cmake -S . -B $(BUILD_DIR) -G "$$generator" -DCMAKE_BUILD_TYPE=Release; \
+	fi
+
+build: configure
+	cmake --build $(BUILD_DIR) -j$(JOBS)
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
+
+demo: build
+	@mkdir -p $(DEMO_OUT)
+	./$(BUILD_DIR)/pipescope evaluate --gt data/demo/groundtruth.tum --est data/demo/estimate.tum \
+	  --json $(DEMO_OUT)/metrics.json
+	@echo "Results: $(DEMO_OUT)/metrics.json"
+
+bench: build
+	@bash bench/run_kernels.sh $(BUILD_DIR)
+
+format:
+	find src bench -name '*.h' -o -name '*.cc' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD_DIR) $(DEMO_OUT)

@@ -1,0 +1,69 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "pipescope/camera/camera_models.h"
+
+namespace pipescope {
+
+// Why a point did or did not project to a usable pixel.
+enum class ProjectionStatus {
+  kValid,
+  // z <= 0 for the perspective-type models, or the zero vector for any model; no pixel.
+  kBehindCamera,
+  // Angle from the optical axis beyond MaxAngle(); the pixel is still computed.
+  kOutsideFieldOfView,
+  // Projects, but outside [-0.5, width - 0.5] x [-0.5, height - 0.5]; the pixel is computed.
+  kOutsideImage,
+};
+
+const char* ProjectionStatusName(ProjectionStatus status);
+
+// A calibrated camera: a model, its parameters and the image size. Immutable; the model's
+// maximum angle is computed once here because finding it costs a scan.
+class Camera {
+ public:
+  // Throws InputError when the parameter count does not match the model, the size is not
+  // positive, or the parameters are not finite or have non-positive focal lengths.
+  Camera(CameraModelId model_id, int width, int height, std::vector<double> params);
+
+  CameraModelId ModelId() const { return model_id_; }
+  std::string ModelName() const { return CameraModelName(model_id_); }
+  int Width() const { return width_; }
+  int Height() const { return height_; }
+  const std::vector<double>& Params() const { return params_; }
+  int NumParams() const { return static_cast<int>(params_.size()); }
+  // Largest valid angle from the optical axis, radians.
+  double MaxAngle() const { return max_angle_; }
+
+  // Whether the pixel lies on the image: pixel centres run from 0 to width - 1, so the image
+  // covers [-0.5, width - 0.5] x [-0.5, height - 0.5].
+  bool IsInImage(const Eigen::Vector2d& pixel) const;
+
+  ProjectionStatus Project(const Eigen::Vector3d& point_cam, Eigen::Vector2d* pixel) const;
+
+  // Project() with the derivatives of the pixel with respect to the point (2x3) and to the
+  // parameters (2 x NumParams()), from ceres::Jet through the templated projection. Either
+  // Jacobian may be null; they are filled unless the status is kBehindCamera.
+  ProjectionStatus ProjectWithJacobians(const Eigen::Vector3d& point_cam, Eigen::Vector2d* pixel,
+                                        Eigen::Matrix<double, 2, 3>* d_pixel_d_point,
+                                        Eigen::MatrixXd* d_pixel_d_params) const;
+
+  // Unit bearing of the pixel; false when it lies beyond the model's maximum angle. Pixels off
+  // the image are unprojected too.
+  bool Unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* bearing) const;
+
+ private:
+  // kValid, kBehindCamera or kOutsideFieldOfView, from the direction alone.
+  ProjectionStatus CheckDirection(const Eigen::Vector3d& point_cam) const;
+
+  CameraModelId model_id_;
+  int width_;
+  int height_;
+  std::vector<double> params_;
+  double max_angle_;
+};
+
+}  // namespace pipescope

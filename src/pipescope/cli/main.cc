@@ -1,0 +1,71 @@
+// pipescope: visual odometry and mapping for in-pipe inspection cameras. This file is the table
+// of subcommands (GUIDE §5); each subcommand lives in its own file.
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <opencv2/core/utils/logger.hpp>
+#include <string>
+
+#include "pipescope/cli/subcommand.h"
+#include "pipescope/util/error.h"
+#include "pipescope/util/logging.h"
+#include "pipescope/util/run_report.h"
+
+namespace pipescope {
+namespace {
+
+const Subcommand kSubcommands[] = {
+    {"evaluate", "Compare an estimated trajectory with ground truth (metrics.json)",
+     SetupEvaluateCommand},
+};
+
+int RunMain(int argc, char** argv) {
+  CLI::App app{"pipescope: maps pipes from the images of one camera carried through them",
+               "pipescope"};
+  app.set_version_flag("--version", std::string(PipescopeVersion()));
+  app.require_subcommand(1);
+  bool verbose = false;
+  bool quiet = false;
+  app.add_flag("-v,--verbose", verbose, "Log debug messages");
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bar");
+
+  SubcommandRunner runner;
+  for (const Subcommand& subcommand : kSubcommands) {
+    CLI::App* command = app.add_subcommand(subcommand.name, subcommand.description);
+    command->fallthrough();  // --verbose / --quiet may follow the subcommand
+    SubcommandRunner run = subcommand.setup(command);
+    command->callback([&runner, run] { runner = run; });
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitInputError;
+  }
+
+  SetupLogging(quiet ? Verbosity::kQuiet : verbose ? Verbosity::kVerbose : Verbosity::kNormal);
+  cv::utils::logging::setLogLevel(verbose ? cv::utils::logging::LOG_LEVEL_WARNING
+                                          : cv::utils::logging::LOG_LEVEL_ERROR);
+  try {
+    return runner();
+  } catch (const InputError& error) {
+    spdlog::error("{}", error.what());
+    return kExitInputError;
+  } catch (const std::exception& error) {
+    spdlog::error("internal error: {}", error.what());
+    return kExitInternalError;
+  }
+}
+
+}  // namespace
+}  // namespace pipescope
+
+int main(int argc, char** argv) { return pipescope::RunMain(argc, argv); }

@@ -1,0 +1,51 @@
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipescope/eval/alignment.h"
+
+namespace pipescope {
+
+// Distance between two junctions in ground truth and in the estimate (001 Table I).
+struct JunctionDistance {
+  std::string from;  // Scene junction names.
+  std::string to;
+  double gt_m = 0;
+  double est_m = 0;
+  double error_m = 0;    // est_m - gt_m, signed.
+  double error_pct = 0;  // 100 |error_m| / gt_m.
+};
+
+// Everything metrics.json holds (GUIDE §4). Optional fields are null in JSON when unset.
+struct Metrics {
+  std::size_t frames_gt = 0;
+  std::size_t frames_est = 0;
+  std::size_t frames_matched = 0;
+
+  // Whether the ground truth goes out and comes back; not a metrics.json key, but it decides
+  // which distances are reported.
+  bool out_and_back = false;
+  // Net distance travelled (one-way) or forward + reverse legs (out-and-back), metres.
+  double distance_gt_m = 0;
+  double distance_est_m = 0;
+  std::optional<double> distance_error_pct;  // 000 eq. 50; unset when distance_gt_m is 0.
+  // Out-and-back runs only.
+  std::optional<double> forward_error_pct;
+  std::optional<double> reverse_error_pct;
+  std::optional<double> return_error_pct;  // 000 eq. 51.
+
+  double ate_rmse_m = 0;
+  double ate_max_m = 0;
+  Alignment alignment = Alignment::kSe3;
+  std::optional<double> scale;  // Sim(3) alignment only: ground truth ≈ scale * estimate.
+
+  std::optional<double> rpe_1m_pct;  // Unset when the run is shorter than the segment.
+
+  // Set when junctions were evaluated (networks).
+  std::optional<std::vector<JunctionDistance>> junction_distances;
+};
+
+}  // namespace pipescope

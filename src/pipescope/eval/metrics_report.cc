@@ -1,0 +1,126 @@
+#include "pipescope/eval/metrics_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <utility>
+#include <vector>
+
+namespace pipescope {
+namespace {
+
+nlohmann::json OptionalToJson(const std::optional<double>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+std::string Format(const char* format, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, value);
+  return buffer;
+}
+
+std::string FormatOptional(const char* format, const std::optional<double>& value,
+                           const std::string& absent) {
+  return value ? Format(format, *value) : absent;
+}
+
+std::string PadRight(const std::string& text, std::size_t width) {
+  return text + std::string(width > text.size() ? width - text.size() : 0, ' ');
+}
+
+std::string PadLeft(const std::string& text, std::size_t width) {
+  return std::string(width > text.size() ? width - text.size() : 0, ' ') + text;
+}
+
+}  // namespace
+
+nlohmann::json MetricsToJson(const Metrics& metrics) {
+  nlohmann::json json;
+  json["frames_gt"] = metrics.frames_gt;
+  json["frames_est"] = metrics.frames_est;
+  json["frames_matched"] = metrics.frames_matched;
+  json["distance_gt_m"] = metrics.distance_gt_m;
+  json["distance_est_m"] = metrics.distance_est_m;
+  json["distance_error_pct"] = OptionalToJson(metrics.distance_error_pct);
+  json["forward_error_pct"] = OptionalToJson(metrics.forward_error_pct);
+  json["reverse_error_pct"] = OptionalToJson(metrics.reverse_error_pct);
+  json["return_error_pct"] = OptionalToJson(metrics.return_error_pct);
+  json["ate_rmse_m"] = metrics.ate_rmse_m;
+  json["ate_max_m"] = metrics.ate_max_m;
+  json["alignment"] = AlignmentName(metrics.alignment);
+  json["scale"] = OptionalToJson(metrics.scale);
+  json["rpe_1m_pct"] = OptionalToJson(metrics.rpe_1m_pct);
+  json["junction_distances"] = nullptr;
+  if (metrics.junction_distances) {
+    json["junction_distances"] = nlohmann::json::array();
+    for (const JunctionDistance& distance : *metrics.junction_distances) {
+      json["junction_distances"].push_back({{"from", distance.from},
+                                            {"to", distance.to},
+                                            {"gt_m", distance.gt_m},
+                                            {"est_m", distance.est_m},
+                                            {"error_m", distance.error_m},
+                                            {"error_pct", distance.error_pct}});
+    }
+  }
+  return json;
+}
+
+std::string MetricsToTable(const Metrics& metrics) {
+  const std::string kNotApplicable = "-";
+  std::vector<std::pair<std::string, std::string>> rows = {
+      {"frames_gt", std::to_string(metrics.frames_gt)},
+      {"frames_est", std::to_string(metrics.frames_est)},
+      {"frames_matched", std::to_string(metrics.frames_matched)},
+      {"run", metrics.out_and_back ? "out-and-back" : "one-way"},
+      {"distance_gt_m", Format("%.4f m", metrics.distance_gt_m)},
+      {"distance_est_m", Format("%.4f m", metrics.distance_est_m)},
+      {"distance_error_pct", FormatOptional("%.3f %%", metrics.distance_error_pct, kNotApplicable)},
+  };
+  if (metrics.out_and_back) {
+    rows.push_back({"forward_error_pct",
+                    FormatOptional("%.3f %%", metrics.forward_error_pct, kNotApplicable)});
+    rows.push_back({"reverse_error_pct",
+                    FormatOptional("%.3f %%", metrics.reverse_error_pct, kNotApplicable)});
+    rows.push_back(
+        {"return_error_pct", FormatOptional("%.3f %%", metrics.return_error_pct, kNotApplicable)});
+  }
+  rows.push_back({"alignment", AlignmentName(metrics.alignment)});
+  if (metrics.scale) rows.push_back({"scale", Format("%.6f", *metrics.scale)});
+  rows.push_back({"ate_rmse_m", Format("%.4f m", metrics.ate_rmse_m)});
+  rows.push_back({"ate_max_m", Format("%.4f m", metrics.ate_max_m)});
+  rows.push_back({"rpe_1m_pct",
+                  FormatOptional("%.3f %%", metrics.rpe_1m_pct, "- (run shorter than a segment)")});
+
+  std::size_t label_width = 0;
+  for (const auto& row : rows) label_width = std::max(label_width, row.first.size());
+  std::string table;
+  for (const auto& [label, value] : rows) table += PadRight(label, label_width + 2) + value + "\n";
+
+  if (metrics.junction_distances) {
+    const std::vector<std::string> header = {"from", "to", "gt_m", "est_m", "error_m", "error_pct"};
+    std::vector<std::vector<std::string>> cells = {header};
+    for (const JunctionDistance& distance : *metrics.junction_distances) {
+      cells.push_back({distance.from, distance.to, Format("%.4f", distance.gt_m),
+                       Format("%.4f", distance.est_m), Format("%+.4f", distance.error_m),
+                       Format("%.3f", distance.error_pct)});
+    }
+    std::vector<std::size_t> widths(header.size(), 0);
+    for (const auto& row : cells) {
+      for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+    }
+    table += "junction_distances";
+    table += metrics.junction_distances->empty() ? ": none\n" : "\n";
+    if (!metrics.junction_distances->empty()) {
+      for (const auto& row : cells) {
+        std::string line;
+        // Names left-aligned, numbers right-aligned.
+        for (std::size_t c = 0; c < row.size(); ++c) {
+          line += "  " + (c < 2 ? PadRight(row[c], widths[c]) : PadLeft(row[c], widths[c]));
+        }
+        table += line + "\n";
+      }
+    }
+  }
+  return table;
+}
+
+}  // namespace pipescope

@@ -1,0 +1,30 @@
+#pragma once
+
+#include "pipescope/eval/alignment.h"
+#include "pipescope/eval/metrics.h"
+#include "pipescope/io/trajectory.h"
+
+namespace pipescope {
+
+struct EvaluationOptions {
+  // Alignment before the absolute trajectory error; se3 suits metric methods.
+  Alignment alignment = Alignment::kSe3;
+  // Largest time difference (s) for a ground-truth and an estimated pose to be matched.
+  double max_dt_s = 0.01;
+  // Ground-truth path length of the relative pose error's segments (rpe_1m_pct).
+  double rpe_segment_m = 1.0;
+  // A run is out-and-back when its ground truth ends closer to its start than this fraction
+  // of its farthest distance from the start.
+  double out_and_back_fraction = 0.1;
+};
+
+// Evaluates `estimate` against `ground_truth` on the frames matched by timestamp: distance
+// errors (000 eq. 50, 51), absolute trajectory error after alignment, relative pose error.
+// Leaves junction_distances unset. Throws InputError when fewer than 2 frames match.
+Metrics EvaluateTrajectory(const Trajectory& ground_truth, const Trajectory& estimate,
+                           const EvaluationOptions& options);
+
+// 100 |estimate - ground_truth| / ground_truth (000 eq. 50); unset when ground_truth is 0.
+std::optional<double> PercentError(double ground_truth, double estimate);
+
+}  // namespace pipescope

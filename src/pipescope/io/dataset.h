@@ -1,0 +1,52 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace pipescope {
+
+// A dataset directory's manifest, `dataset.yaml` (GUIDE §4). Paths are absolute or relative to
+// the working directory once read: relative paths in the file are resolved against the
+// manifest's folder.
+struct DatasetManifest {
+  std::filesystem::path manifest_path;  // empty for a plain image folder
+  std::string name;
+  std::filesystem::path camera_path;
+  std::filesystem::path images_dir;  // exactly one of images_dir and video_path is set
+  std::filesystem::path video_path;
+  double fps = 0.0;  // used when there is no timestamps file
+  std::filesystem::path timestamps_path;
+  std::optional<double> inner_radius_m;            // pipe.inner_radius_m
+  std::optional<double> reference_scale_px_per_m;  // 000 §3.3, dense methods
+  std::filesystem::path gain_mask_path;
+  std::filesystem::path groundtruth_path;
+  std::filesystem::path scene_path;
+};
+
+// Reads and checks `dataset.yaml`; every referenced file must exist. Throws InputError naming
+// the manifest and the key at fault.
+DatasetManifest ReadDatasetManifest(const std::filesystem::path& manifest_path);
+
+// Writes `dataset.yaml` atomically, with paths relative to the manifest's folder where they lie
+// below it.
+void WriteDatasetManifest(const std::filesystem::path& manifest_path,
+                          const DatasetManifest& manifest);
+
+// Command-line overrides for opening a dataset.
+struct DatasetOverrides {
+  std::filesystem::path camera_path;     // --camera
+  std::optional<double> inner_radius_m;  // --radius
+  std::optional<double> fps;             // --fps
+};
+
+// Opens what a user names as DATASET: a dataset directory holding dataset.yaml, a manifest file,
+// or a plain folder of images (which then needs --camera and --radius). Overrides replace the
+// manifest's values.
+DatasetManifest OpenDataset(const std::filesystem::path& dataset,
+                            const DatasetOverrides& overrides = {});
+
+// The pipe radius, or InputError telling the user how to give it.
+double RequireInnerRadius(const DatasetManifest& manifest);
+
+}  // namespace pipescope

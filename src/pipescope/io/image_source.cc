@@ -1,0 +1,218 @@
+#include "pipescope/io/image_source.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <sstream>
+
+#include "pipescope/util/error.h"
+
+namespace pipescope {
+namespace {
+
+bool HasImageExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return extension == ".png" || extension == ".jpg" || extension == ".jpeg" ||
+         extension == ".tif" || extension == ".tiff" || extension == ".bmp" ||
+         extension == ".pgm" || extension == ".ppm";
+}
+
+class FolderImageSource : public ImageSource {
+ public:
+  FolderImageSource(std::vector<std::filesystem::path> files, std::vector<double> timestamps,
+                    double fps, ImageSourceOptions options)
+      : ImageSource(std::move(timestamps), fps, options), files_(std::move(files)) {}
+
+  std::size_t FrameCount() const override { return files_.size(); }
+
+ protected:
+  bool ReadRaw(cv::Mat* image, std::string* name) override {
+    if (position_ >= files_.size()) return false;
+    const std::filesystem::path& file = files_[position_++];
+    *name = file.string();
+    *image = cv::imread(file.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    return true;
+  }
+
+ private:
+  std::vector<std::filesystem::path> files_;
+  std::size_t position_ = 0;
+};
+
+class VideoImageSource : public ImageSource {
+ public:
+  VideoImageSource(const std::filesystem::path& video, std::vector<double> timestamps, double fps,
+                   ImageSourceOptions options)
+      : ImageSource(std::move(timestamps), fps, options) {
+    if (!std::filesystem::is_regular_file(video)) {
+      throw InputError("video not found: " + video.string());
+    }
+    capture_.open(video.string());
+    if (!capture_.isOpened()) {
+      throw InputError("cannot open video " + video.string());
+    }
+    const double count = capture_.get(cv::CAP_PROP_FRAME_COUNT);
+    frame_count_ = count > 0 ? static_cast<std::size_t>(count) : 0;
+  }
+
+  std::size_t FrameCount() const override { return frame_count_; }
+
+ protected:
+  bool ReadRaw(cv::Mat* image, std::string* name) override {
+    *name = "frame " + std::to_string(position_++);
+    return capture_.read(*image);
+  }
+
+ private:
+  cv::VideoCapture capture_;
+  std::size_t frame_count_ = 0;
+  std::size_t position_ = 0;
+};
+
+}  // namespace
+
+cv::Mat ToFloatGrey(const cv::Mat& image) {
+  cv::Mat grey;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  } else if (image.channels() == 4) {
+    cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
+  } else {
+    grey = image;
+  }
+  double scale = 1.0;
+  switch (grey.depth()) {
+    case CV_8U:
+      break;
+    case CV_16U:
+      scale = 255.0 / 65535.0;
+      break;
+    case CV_32F:
+    case CV_64F:
+      break;  // already in grey levels
+    default:
+      throw InputError("unsupported image depth (expected 8- or 16-bit)");
+  }
+  cv::Mat result;
+  grey.convertTo(result, CV_32F, scale);
+  return result;
+}
+
+std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& folder) {
+  if (!std::filesystem::is_directory(folder)) {
+    throw InputError("image folder not found: " + folder.string());
+  }
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.is_regular_file() && HasImageExtension(entry.path())) files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end(),
+            [](const auto& a, const auto& b) { return a.filename() < b.filename(); });
+  return files;
+}
+
+std::vector<double> ReadTimestampsFile(const std::filesystem::path& path) {
+  std::ifstream stream(path);
+  if (!stream) throw InputError("cannot read timestamps file " + path.string());
+  std::vector<double> timestamps;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(stream, line)) {
+    ++line_number;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    double time = 0;
+    if (!(fields >> time) || !std::isfinite(time)) {
+      throw InputError(path.string() + ":" + std::to_string(line_number) +
+                       ": expected a time in seconds");
+    }
+    timestamps.push_back(time);
+  }
+  return timestamps;
+}
+
+ImageSource::ImageSource(std::vector<double> timestamps, double fps, ImageSourceOptions options)
+    : timestamps_(std::move(timestamps)), fps_(fps), options_(options) {}
+
+std::unique_ptr<ImageSource> ImageSource::Open(const DatasetManifest& manifest,
+                                               const ImageSourceOptions& options) {
+  std::vector<double> timestamps;
+  if (!manifest.timestamps_path.empty()) {
+    timestamps = ReadTimestampsFile(manifest.timestamps_path);
+  } else if (!(manifest.fps > 0)) {
+    throw InputError("dataset " + manifest.name + ": give 'fps' or a 'timestamps' file");
+  }
+  std::unique_ptr<ImageSource> source;
+  if (!manifest.images_dir.empty()) {
+    std::vector<std::filesystem::path> files = ListImageFiles(manifest.images_dir);
+    if (files.empty()) {
+      throw InputError("image folder " + manifest.images_dir.string() +
+                       " holds no PNG, JPEG or TIFF frames");
+    }
+    if (!timestamps.empty() && timestamps.size() != files.size()) {
+      throw InputError(manifest.timestamps_path.string() + " has " +
+                       std::to_string(timestamps.size()) + " times but " +
+                       manifest.images_dir.string() + " has " + std::to_string(files.size()) +
+                       " frames");
+    }
+    source = std::make_unique<FolderImageSource>(std::move(files), std::move(timestamps),
+                                                 manifest.fps, options);
+  } else if (!manifest.video_path.empty()) {
+    source = std::make_unique<VideoImageSource>(manifest.video_path, std::move(timestamps),
+                                                manifest.fps, options);
+  } else {
+    throw InputError("dataset " + manifest.name + " names neither 'images' nor 'video'");
+  }
+  return source;
+}
+
+double ImageSource::TimestampOf(std::size_t index) const {
+  if (!timestamps_.empty()) {
+    if (index >= timestamps_.size()) {
+      throw InputError("the timestamps file has fewer times than the sequence has frames");
+    }
+    return timestamps_[index];
+  }
+  return static_cast<double>(index) / fps_;
+}
+
+std::optional<Frame> ImageSource::Next() {
+  cv::Mat raw;
+  std::string name;
+  while (ReadRaw(&raw, &name)) {
+    const std::size_t index = next_index_++;
+    if (raw.empty()) {
+      spdlog::warn("skipping unreadable frame {}", name);
+      skipped_frames_.push_back(name);
+      continue;
+    }
+    if (options_.expected_width > 0 &&
+        (raw.cols != options_.expected_width || raw.rows != options_.expected_height)) {
+      throw InputError("frame " + name + " is " + std::to_string(raw.cols) + "x" +
+                       std::to_string(raw.rows) + " but the camera calibration is " +
+                       std::to_string(options_.expected_width) + "x" +
+                       std::to_string(options_.expected_height));
+    }
+    Frame frame;
+    frame.index = index;
+    frame.timestamp = TimestampOf(index);
+    frame.name = name;
+    try {
+      frame.grey = ToFloatGrey(raw);
+    } catch (const InputError& error) {
+      throw InputError("frame " + name + ": " + error.what());
+    }
+    return frame;
+  }
+  return std::nullopt;
+}
+
+}  // namespace pipescope

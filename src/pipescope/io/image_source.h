@@ -1,0 +1,76 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipescope/io/dataset.h"
+
+namespace pipescope {
+
+// One frame of a sequence. `grey` is single-channel CV_32F in 8-bit grey levels (0..255; 16-bit
+// input is scaled by 255/65535) so thresholds mean the same for every input depth.
+struct Frame {
+  std::size_t index = 0;  // position in the sequence, counting skipped frames
+  double timestamp = 0.0;
+  std::string name;  // file name, or "frame N" for video
+  cv::Mat grey;
+};
+
+struct ImageSourceOptions {
+  // Expected frame size from camera.yaml; 0 disables the check.
+  int expected_width = 0;
+  int expected_height = 0;
+};
+
+// Streams the frames of a dataset one at a time, so a 26 000-frame run holds one frame in
+// memory. A frame that cannot be decoded is skipped with a warning and counted; a frame whose
+// size differs from the camera's is an InputError, since every later frame would be wrong too.
+class ImageSource {
+ public:
+  virtual ~ImageSource() = default;
+
+  // Opens the folder or video the manifest names. Throws InputError for a missing or empty
+  // folder, an unreadable video, or a timestamps file whose length does not match.
+  static std::unique_ptr<ImageSource> Open(const DatasetManifest& manifest,
+                                           const ImageSourceOptions& options = {});
+
+  // The next usable frame, or nullopt at the end.
+  std::optional<Frame> Next();
+
+  // Number of frames in the sequence, if known (0 otherwise).
+  virtual std::size_t FrameCount() const = 0;
+
+  const std::vector<std::string>& skipped_frames() const { return skipped_frames_; }
+
+ protected:
+  ImageSource(std::vector<double> timestamps, double fps, ImageSourceOptions options);
+
+  // Reads the raw frame at the current position; returns false at the end. Sets `image` empty
+  // for an undecodable frame.
+  virtual bool ReadRaw(cv::Mat* image, std::string* name) = 0;
+
+ private:
+  double TimestampOf(std::size_t index) const;
+
+  std::vector<double> timestamps_;  // from the timestamps file; empty: index / fps
+  double fps_;
+  ImageSourceOptions options_;
+  std::size_t next_index_ = 0;
+  std::vector<std::string> skipped_frames_;
+};
+
+// Converts an 8- or 16-bit, grey or colour image to CV_32F grey in 8-bit grey levels.
+cv::Mat ToFloatGrey(const cv::Mat& image);
+
+// Image files of a folder (PNG, JPEG, TIFF, BMP), sorted by file name.
+std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& folder);
+
+// Reads a timestamps file: one time in seconds per line, '#' comments allowed.
+std::vector<double> ReadTimestampsFile(const std::filesystem::path& path);
+
+}  // namespace pipescope

@@ -1,0 +1,114 @@
+#include "pipescope/io/image_source.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "pipescope/util/atomic_file.h"
+#include "pipescope/util/error.h"
+#include "pipescope/util/testing.h"
+
+namespace pipescope {
+namespace {
+
+DatasetManifest FolderManifest(const std::filesystem::path& dir, double fps) {
+  DatasetManifest manifest;
+  manifest.name = "test";
+  manifest.images_dir = dir;
+  manifest.fps = fps;
+  return manifest;
+}
+
+TEST(ImageSource, StreamsSortedFramesConvertingDepthAndColour) {
+  const auto dir = MakeTestDirectory("source_depths");
+  // Written out of order: frames come back sorted by file name.
+  cv::imwrite((dir / "frame_002.png").string(), cv::Mat(4, 6, CV_16UC1, cv::Scalar(65535)));
+  cv::imwrite((dir / "frame_000.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(100)));
+  cv::imwrite((dir / "frame_001.tiff").string(), cv::Mat(4, 6, CV_8UC3, cv::Scalar(50, 50, 50)));
+  WriteTextFileAtomically(dir / "notes.txt", "not an image");
+
+  auto source =
+      ImageSource::Open(FolderManifest(dir, 10.0), {.expected_width = 6, .expected_height = 4});
+  EXPECT_EQ(source->FrameCount(), 3u);
+  const float expected_grey[] = {100.0f, 50.0f, 255.0f};
+  for (int i = 0; i < 3; ++i) {
+    const std::optional<Frame> frame = source->Next();
+    ASSERT_TRUE(frame.has_value());
+    EXPECT_EQ(frame->index, static_cast<std::size_t>(i));
+    EXPECT_DOUBLE_EQ(frame->timestamp, i / 10.0);
+    EXPECT_EQ(frame->grey.type(), CV_32FC1);
+    EXPECT_NEAR(frame->grey.at<float>(2, 3), expected_grey[i], 1e-3);
+  }
+  EXPECT_FALSE(source->Next().has_value());
+}
+
+TEST(ImageSource, SkipsUnreadableFrameAndKeepsTimestampsOfOthers) {
+  const auto dir = MakeTestDirectory("source_corrupt");
+  cv::imwrite((dir / "a.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(1)));
+  WriteTextFileAtomically(dir / "b.png", "this is not a PNG");
+  cv::imwrite((dir / "c.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(3)));
+  WriteTextFileAtomically(dir / "times.txt", "# seconds\n0.5\n0.75\n1.25\n");
+  DatasetManifest manifest = FolderManifest(dir, 0.0);
+  manifest.timestamps_path = dir / "times.txt";
+  auto source = ImageSource::Open(manifest);
+  EXPECT_DOUBLE_EQ(source->Next()->timestamp, 0.5);
+  const std::optional<Frame> third = source->Next();
+  ASSERT_TRUE(third.has_value());
+  EXPECT_EQ(third->index, 2u);
+  EXPECT_DOUBLE_EQ(third->timestamp, 1.25);
+  EXPECT_FALSE(source->Next().has_value());
+  ASSERT_EQ(source->skipped_frames().size(), 1u);
+  EXPECT_NE(source->skipped_frames()[0].find("b.png"), std::string::npos);
+}
+
+TEST(ImageSource, BadInputIsInputError) {
+  const auto empty = MakeTestDirectory("source_empty");
+  EXPECT_THROW(ImageSource::Open(FolderManifest(empty, 10.0)), InputError);
+  EXPECT_THROW(ImageSource::Open(FolderManifest(empty / "missing", 10.0)), InputError);
+
+  const auto dir = MakeTestDirectory("source_size");
+  cv::imwrite((dir / "a.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(1)));
+  auto source =
+      ImageSource::Open(FolderManifest(dir, 10.0), {.expected_width = 640, .expected_height = 480});
+  try {
+    source->Next();
+    FAIL() << "expected a size mismatch error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("a.png"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find("640x480"), std::string::npos);
+  }
+
+  WriteTextFileAtomically(dir / "times.txt", "0.1\n0.2\n");
+  DatasetManifest wrong_count = FolderManifest(dir, 0.0);
+  wrong_count.timestamps_path = dir / "times.txt";
+  EXPECT_THROW(ImageSource::Open(wrong_count), InputError);
+}
+
+TEST(ImageSource, ReadsVideo) {
+  const auto dir = MakeTestDirectory("source_video");
+  const auto video = dir / "run.avi";
+  {
+    cv::VideoWriter writer(video.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 5.0,
+                           cv::Size(32, 24), /*isColor=*/true);
+    ASSERT_TRUE(writer.isOpened());
+    for (int i = 0; i < 4; ++i) writer.write(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(40 * i)));
+  }
+  DatasetManifest manifest;
+  manifest.name = "video";
+  manifest.video_path = video;
+  manifest.fps = 5.0;
+  auto source = ImageSource::Open(manifest, {.expected_width = 32, .expected_height = 24});
+  int count = 0;
+  while (std::optional<Frame> frame = source->Next()) {
+    EXPECT_DOUBLE_EQ(frame->timestamp, count / 5.0);
+    EXPECT_NEAR(cv::mean(frame->grey)[0], 40.0 * count, 3.0);  // MJPEG is lossy
+    ++count;
+  }
+  EXPECT_EQ(count, 4);
+  manifest.video_path = dir / "missing.avi";
+  EXPECT_THROW(ImageSource::Open(manifest), InputError);
+}
+
+}  // namespace
+}  // namespace pipescope
