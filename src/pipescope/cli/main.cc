@@ -16,6 +16,7 @@ namespace pipescope {
 namespace {
 
 const Subcommand kSubcommands[] = {
+    {"simulate", "Render a simulated pipe dataset with exact ground truth", SetupSimulateCommand},
     {"evaluate", "Compare an estimated trajectory with ground truth (metrics.json)",
      SetupEvaluateCommand},
 };

@@ -18,5 +18,6 @@ struct Subcommand {
 
 // One per file in this folder.
 SubcommandRunner SetupEvaluateCommand(CLI::App* command);
+SubcommandRunner SetupSimulateCommand(CLI::App* command);
 
 }  // namespace pipescope

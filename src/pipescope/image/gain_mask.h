@@ -1,0 +1,21 @@
+#pragma once
+
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace pipescope {
+
+// The gain mask of 000 §3.2: the mean of several images of a white card under the robot's own
+// lights, smoothed with a Gaussian to remove noise, scaled so its maximum is 1 (CV_32F).
+// Dividing a frame by it removes the lighting pattern and the lens vignetting.
+cv::Mat BuildGainMask(const std::vector<cv::Mat>& white_card_images, double sigma_px);
+
+// 16-bit PNG, 65535 = the mask's maximum; written atomically.
+void WriteGainMask(const std::filesystem::path& path, const cv::Mat& mask);
+
+// Reads a gain mask image (any depth) as CV_32F scaled to a maximum of 1. Throws InputError
+// naming the file when it is missing, unreadable or zero.
+cv::Mat ReadGainMask(const std::filesystem::path& path);
+
+}  // namespace pipescope

@@ -1,0 +1,23 @@
+#pragma once
+
+#include <filesystem>
+
+#include "pipescope/synthetic/simulation_config.h"
+
+namespace pipescope {
+
+struct SimulationSummary {
+  int frames = 0;
+  double seconds = 0.0;  // wall-clock rendering time
+  double route_length_m = 0.0;
+};
+
+// Renders the dataset `config` describes into `out` (GUIDE §4): images/, camera.yaml,
+// groundtruth.tum, scene.yaml, white_card/, gain_mask.png, simulation.yaml (every key, for
+// provenance) and dataset.yaml. Everything is written into a temporary sibling folder that is
+// renamed onto `out` at the end, so a failed or interrupted run leaves nothing half written.
+// `out` may be missing, empty, or an earlier simulated dataset (it is replaced); any other
+// existing folder is an InputError.
+SimulationSummary SimulateDataset(const SimulationConfig& config, const std::filesystem::path& out);
+
+}  // namespace pipescope

@@ -1,0 +1,120 @@
+#include "pipescope/synthetic/presets.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pipescope/synthetic/scene_layouts.h"
+#include "pipescope/synthetic/simulated_camera.h"
+#include "pipescope/util/testing.h"
+
+namespace pipescope {
+namespace {
+
+TEST(Presets, EveryPresetIsValidAndHasItsCameraAndRoute) {
+  for (const std::string& name : PresetNames()) {
+    SCOPED_TRACE(name);
+    const SimulationConfig config = PresetConfig(name);
+    EXPECT_EQ(config.preset, name);
+    EXPECT_FALSE(config.description.empty());
+    EXPECT_NO_THROW(ValidateConfig(config));
+    const Camera camera = MakeSimulatedCamera(config);
+    EXPECT_EQ(camera.Width(), config.width);
+    EXPECT_EQ(camera.ModelName(), config.camera_model);
+    const Layout layout = BuildLayout(config);
+    EXPECT_GT(layout.travel_m, 0.0);
+    EXPECT_LE(layout.start_s_m + layout.travel_m, layout.route.Length() + 1e-9);
+    // Every point of the route lies inside the pipe.
+    for (double s = 0.0; s <= layout.route.Length(); s += 0.05) {
+      Eigen::Vector3d point, tangent;
+      layout.route.Evaluate(s, &point, &tangent);
+      EXPECT_TRUE(layout.scene.Contains(point)) << "s = " << s;
+    }
+  }
+}
+
+TEST(Presets, PapersGeometry) {
+  const SimulationConfig six = PresetConfig("steel-6in");
+  EXPECT_DOUBLE_EQ(2.0 * six.radius_m, 0.15332);
+  EXPECT_NEAR(BuildLayout(six).travel_m, 5.8444, 1e-9);  // 000 Table 1 ground truth
+  EXPECT_NEAR(six.speed_m_s * six.frames / six.fps / six.frames, 0.00137, 0.00001);
+  const SimulationConfig sixteen = PresetConfig("steel-16in");
+  EXPECT_DOUBLE_EQ(2.0 * sixteen.radius_m, 0.38756);
+  EXPECT_NEAR(BuildLayout(sixteen).travel_m, 3.391, 1e-9);
+  EXPECT_TRUE(sixteen.out_and_back);
+  // A 190-degree lens reaches past 95 degrees from the axis.
+  const Camera fisheye = MakeSimulatedCamera(PresetConfig("fiberglass-network"));
+  EXPECT_GE(fisheye.MaxAngle(), 95.0 * M_PI / 180.0);
+  Eigen::Vector3d bearing;
+  const double rim = 95.0 * M_PI / 180.0;
+  Eigen::Vector2d pixel;
+  EXPECT_EQ(fisheye.Project(Eigen::Vector3d(std::sin(rim), 0, std::cos(rim)), &pixel),
+            ProjectionStatus::kValid);
+}
+
+TEST(Presets, SquareLoopFollowsTableOneDistances) {
+  const std::vector<Eigen::Vector3d> t = SquareLoopCorners(false);
+  // 001 Table I laser distances; five of six are fitted exactly, T2-T4 is what remains.
+  EXPECT_NEAR((t[1] - t[0]).norm(), 8.150, 1e-9);
+  EXPECT_NEAR((t[2] - t[1]).norm(), 8.174, 1e-9);
+  EXPECT_NEAR((t[3] - t[2]).norm(), 8.159, 1e-9);
+  EXPECT_NEAR((t[0] - t[3]).norm(), 8.110, 1e-9);
+  EXPECT_NEAR((t[2] - t[0]).norm(), 11.468, 1e-9);
+  EXPECT_NEAR((t[3] - t[1]).norm(), 11.493, 0.1);
+  for (const Eigen::Vector3d& corner : t) EXPECT_EQ(corner.y(), 0.0);  // a horizontal network
+  const Layout layout = BuildLayout(PresetConfig("fiberglass-network"));
+  ASSERT_EQ(layout.scene.junctions().size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    const auto& junction = layout.scene.junctions()[i];
+    const int index = junction.name[1] - '1';
+    EXPECT_TRUE(junction.center.isApprox(t[index], 1e-12)) << junction.name;
+  }
+}
+
+TEST(SimulationConfig, SetParsesAndValidatesKeys) {
+  SimulationConfig config = PresetConfig("culvert");
+  SetConfigValue(&config, "fov_deg=150");
+  SetConfigValue(&config, "out_and_back=true");
+  SetConfigValue(&config, "frames=12");
+  SetConfigValue(&config, "camera_model=fisheye-poly");
+  EXPECT_DOUBLE_EQ(config.fov_deg, 150.0);
+  EXPECT_TRUE(config.out_and_back);
+  EXPECT_EQ(config.frames, 12);
+  EXPECT_EQ(GetConfigValue(config, "camera_model"), "fisheye-poly");
+  EXPECT_NO_THROW(ValidateConfig(config));
+  EXPECT_NE(
+      InputErrorMessage([&] { SetConfigValue(&config, "no_such_key=1"); }).find("no_such_key"),
+      std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { SetConfigValue(&config, "fps=fast"); }).find("fps"),
+            std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { SetConfigValue(&config, "fps"); }).find("key=value"),
+            std::string::npos);
+  SetConfigValue(&config, "radius_m=-1");
+  EXPECT_NE(InputErrorMessage([&] { ValidateConfig(config); }).find("radius_m"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { PresetConfig("sewer"); }).find("--preset"), std::string::npos);
+  // Every key listed reads back.
+  for (const ConfigKey& key : SimulationConfigKeys()) {
+    EXPECT_FALSE(GetConfigValue(config, key.name).empty()) << key.name;
+  }
+}
+
+TEST(SimulatedCamera, ReferenceScaleMatchesProjectedWallSpacing) {
+  SimulationConfig config = PresetConfig("steel-6in");
+  const Camera camera = MakeSimulatedCamera(config);
+  const std::optional<double> zeta = ReferenceScalePxPerM(config, camera);
+  ASSERT_TRUE(zeta.has_value());
+  // Two wall points 1 mm apart along the axis under the nominal camera, which looks along +Y at
+  // the wall r away with image x along the axis; so near the principal point the radial
+  // distortion changes the scale by k1 r^2, under 3e-6.
+  Eigen::Vector2d a, b;
+  ASSERT_EQ(camera.Project(Eigen::Vector3d(-0.0005, 0, config.radius_m), &a),
+            ProjectionStatus::kValid);
+  ASSERT_EQ(camera.Project(Eigen::Vector3d(0.0005, 0, config.radius_m), &b),
+            ProjectionStatus::kValid);
+  EXPECT_NEAR((b - a).norm() / 0.001, *zeta, 1e-5 * *zeta);
+  config.view = "forward";
+  EXPECT_FALSE(ReferenceScalePxPerM(config, camera).has_value());
+}
+
+}  // namespace
+}  // namespace pipescope

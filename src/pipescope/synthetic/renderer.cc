@@ -1,0 +1,96 @@
+#include "pipescope/synthetic/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core/utility.hpp>
+
+namespace pipescope {
+namespace {
+
+// Grazing views stretch a pixel's footprint by 1 / cos(incidence); cap the stretch so the
+// texture filter stays sharp enough to be useful there.
+constexpr double kMinFootprintCosine = 0.1;
+
+}  // namespace
+
+Renderer::Renderer(const Camera& camera, const Scene& scene, const WallTexture& texture,
+                   const Lighting& lighting, double max_view_angle)
+    : camera_(camera), scene_(scene), texture_(texture), lighting_(lighting) {
+  const double min_cos_angle = std::cos(std::min(max_view_angle, camera.MaxAngle()));
+  const int width = camera.Width();
+  const int height = camera.Height();
+  bearings_.assign(static_cast<std::size_t>(width) * height, Eigen::Vector3d::Zero());
+  pixel_angle_.assign(bearings_.size(), 0.0f);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      Eigen::Vector3d bearing;
+      if (camera.Unproject(Eigen::Vector2d(x, y), &bearing) && bearing.z() >= min_cos_angle) {
+        bearings_[static_cast<std::size_t>(y) * width + x] = bearing;
+      }
+    }
+  }
+  // A pixel's angular size: the larger angle to its right and lower neighbours' bearings.
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      const Eigen::Vector3d& b = bearings_[i];
+      if (b.isZero()) continue;
+      double angle = 0.0;
+      const int nx = x + 1 < width ? x + 1 : x - 1;
+      const int ny = y + 1 < height ? y + 1 : y - 1;
+      for (const std::size_t j :
+           {static_cast<std::size_t>(y) * width + nx, static_cast<std::size_t>(ny) * width + x}) {
+        if (!bearings_[j].isZero()) {
+          angle = std::max(angle, std::acos(std::clamp(b.dot(bearings_[j]), -1.0, 1.0)));
+        }
+      }
+      pixel_angle_[i] = static_cast<float>(angle);
+    }
+  }
+}
+
+void Renderer::RenderRows(const Eigen::Isometry3d& world_from_cam, const RenderSettings& settings,
+                          int row_begin, int row_end, cv::Mat* radiance) const {
+  const Eigen::Matrix3d rotation = world_from_cam.linear();
+  const Eigen::Matrix3d rotation_t = rotation.transpose();
+  const Eigen::Vector3d origin = world_from_cam.translation();
+  const int width = camera_.Width();
+  for (int y = row_begin; y < row_end; ++y) {
+    float* out = radiance->ptr<float>(y);
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      out[x] = 0.0f;
+      if (bearings_[i].isZero()) continue;
+      const Ray ray{origin, rotation * bearings_[i]};
+      const std::optional<WallHit> hit = scene_.Intersect(ray);
+      if (!hit) continue;
+      const double cosine = std::abs(ray.direction.dot(hit->normal));
+      const double footprint =
+          hit->distance * pixel_angle_[i] / std::max(cosine, kMinFootprintCosine);
+      double albedo = settings.uniform_albedo;
+      double specularity = 0.0;
+      if (albedo < 0.0) {
+        const double circumference = 2.0 * M_PI * scene_.sections()[hit->section].radius;
+        const WallSample sample =
+            texture_.Sample(hit->section, hit->h_m, hit->s_m, circumference, footprint);
+        albedo = sample.albedo;
+        specularity = settings.specular_strength * sample.specularity;
+      }
+      const Eigen::Vector3d point_cam = rotation_t * (hit->point - origin);
+      const Eigen::Vector3d normal_cam = rotation_t * hit->normal;
+      out[x] = static_cast<float>(lighting_.Radiance(point_cam, normal_cam, albedo, specularity));
+    }
+  }
+}
+
+cv::Mat Renderer::RenderRadiance(const Eigen::Isometry3d& world_from_cam,
+                                 const RenderSettings& settings) const {
+  cv::Mat radiance(camera_.Height(), camera_.Width(), CV_32F);
+  // Rows are independent, so any split over threads gives the same image.
+  cv::parallel_for_(cv::Range(0, camera_.Height()), [&](const cv::Range& rows) {
+    RenderRows(world_from_cam, settings, rows.start, rows.end, &radiance);
+  });
+  return radiance;
+}
+
+}  // namespace pipescope
