@@ -38,6 +38,7 @@ class Lighting {
   LightingOptions options_;
   std::vector<Led> leds_;
   double specular_normalisation_;
+  double specular_cutoff_;  // below this n.h the highlight is under 1e-6 of its peak
 };
 
 }  // namespace pipescope

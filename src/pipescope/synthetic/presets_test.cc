@@ -54,20 +54,31 @@ TEST(Presets, PapersGeometry) {
 
 TEST(Presets, SquareLoopFollowsTableOneDistances) {
   const std::vector<Eigen::Vector3d> t = SquareLoopCorners(false);
-  // 001 Table I laser distances; five of six are fitted exactly, T2-T4 is what remains.
-  EXPECT_NEAR((t[1] - t[0]).norm(), 8.150, 1e-9);
-  EXPECT_NEAR((t[2] - t[1]).norm(), 8.174, 1e-9);
-  EXPECT_NEAR((t[3] - t[2]).norm(), 8.159, 1e-9);
-  EXPECT_NEAR((t[0] - t[3]).norm(), 8.110, 1e-9);
-  EXPECT_NEAR((t[2] - t[0]).norm(), 11.468, 1e-9);
-  EXPECT_NEAR((t[3] - t[1]).norm(), 11.493, 0.1);
+  // 001 Table I laser distances, fitted by least squares: each within 3 cm (the table's own
+  // figures disagree by that much with any planar quadrilateral).
+  const double table[4][4] = {{0, 8.150, 11.468, 8.110},
+                              {8.150, 0, 8.174, 11.493},
+                              {11.468, 8.174, 0, 8.159},
+                              {8.110, 11.493, 8.159, 0}};
+  double sum_squares = 0.0;
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a + 1; b < 4; ++b) {
+      const double error = (t[a] - t[b]).norm() - table[a][b];
+      EXPECT_LT(std::abs(error), 0.03) << "T" << a + 1 << "-T" << b + 1;
+      sum_squares += error * error;
+    }
+  }
+  // Better than the five-distance construction, whose T2-T4 is 8.5 cm off.
+  EXPECT_LT(std::sqrt(sum_squares / 6.0), 0.02);
+  EXPECT_NEAR(t[0].norm(), 0.0, 1e-12);
+  EXPECT_NEAR(t[1].x(), 0.0, 1e-12);
   for (const Eigen::Vector3d& corner : t) EXPECT_EQ(corner.y(), 0.0);  // a horizontal network
   const Layout layout = BuildLayout(PresetConfig("fiberglass-network"));
   ASSERT_EQ(layout.scene.junctions().size(), 4u);
   for (int i = 0; i < 4; ++i) {
     const auto& junction = layout.scene.junctions()[i];
     const int index = junction.name[1] - '1';
-    EXPECT_TRUE(junction.center.isApprox(t[index], 1e-12)) << junction.name;
+    EXPECT_LT((junction.center - t[index]).norm(), 1e-12) << junction.name;
   }
 }
 

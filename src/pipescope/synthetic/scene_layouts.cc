@@ -1,6 +1,9 @@
 #include "pipescope/synthetic/scene_layouts.h"
 
+#include <ceres/ceres.h>
+
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 
 namespace pipescope {
@@ -9,7 +12,21 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 
 // 001 Table I, laser distances between T centres (m).
-constexpr double kT1T2 = 8.150, kT2T3 = 8.174, kT3T4 = 8.159, kT4T1 = 8.110, kT1T3 = 11.468;
+constexpr double kT1T2 = 8.150, kT2T3 = 8.174, kT3T4 = 8.159, kT4T1 = 8.110, kT1T3 = 11.468,
+                 kT2T4 = 11.493;
+
+// Residual of one measured distance between two T centres in the X-Z plane.
+struct TeeDistanceResidual {
+  double measured;
+  template <typename T>
+  bool operator()(const T* a, const T* b, T* residual) const {
+    using std::sqrt;
+    const T dx = a[0] - b[0];
+    const T dz = a[1] - b[1];
+    residual[0] = sqrt(dx * dx + dz * dz) - measured;
+    return true;
+  }
+};
 
 // The route ends this far before T1, a near-full loop as in dataset A.
 constexpr double kLoopEndBeforeT1M = 1.0;
@@ -82,11 +99,34 @@ Layout SquareLoopLayout(const SimulationConfig& c) {
 }  // namespace
 
 std::vector<Eigen::Vector3d> SquareLoopCorners(bool mirror) {
+  // Start from the quadrilateral through five of the distances, then fit all six (the laser
+  // figures are not exactly consistent) by least squares, with T1 at the origin and T2 on +Z.
   const Eigen::Vector3d t1 = Eigen::Vector3d::Zero();
   const Eigen::Vector3d t2(0.0, 0.0, kT1T2);
   const Eigen::Vector3d t3 = CircleIntersection(t1, kT1T3, t2, kT2T3, mirror);
   const Eigen::Vector3d t4 = CircleIntersection(t1, kT4T1, t3, kT3T4, mirror);
-  return {t1, t2, t3, t4};
+  std::array<std::array<double, 2>, 4> xz;
+  for (const auto& [index, corner] : {std::pair{0, t1}, {1, t2}, {2, t3}, {3, t4}}) {
+    xz[index] = {corner.x(), corner.z()};
+  }
+  ceres::Problem problem;
+  const std::tuple<int, int, double> measured[] = {{0, 1, kT1T2}, {1, 2, kT2T3}, {2, 3, kT3T4},
+                                                   {3, 0, kT4T1}, {0, 2, kT1T3}, {1, 3, kT2T4}};
+  for (const auto& [a, b, distance] : measured) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TeeDistanceResidual, 1, 2, 2>(
+                                 new TeeDistanceResidual{distance}),
+                             nullptr, xz[a].data(), xz[b].data());
+  }
+  problem.SetParameterBlockConstant(xz[0].data());
+  problem.SetManifold(xz[1].data(), new ceres::SubsetManifold(2, {0}));  // T2 stays on +Z
+  ceres::Solver::Options options;
+  options.function_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-14;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  std::vector<Eigen::Vector3d> corners;
+  for (const auto& point : xz) corners.emplace_back(point[0], 0.0, point[1]);
+  return corners;
 }
 
 Layout BuildLayout(const SimulationConfig& config) {

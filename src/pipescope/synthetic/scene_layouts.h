@@ -22,7 +22,9 @@ struct Layout {
 //   arm and turns at T1, T2, T3 and T4, ending 1 m before T1 (001 dataset A).
 Layout BuildLayout(const SimulationConfig& config);
 
-// The T centres of the square loop (001 Table I distances), in the X-Z plane.
+// The T centres of the square loop in the X-Z plane: the least-squares fit to the six centre
+// distances of 001 Table I, T1 at the origin, T2 on +Z, T3 to the left of T1 -> T2 (right when
+// mirrored).
 std::vector<Eigen::Vector3d> SquareLoopCorners(bool mirror);
 
 }  // namespace pipescope
