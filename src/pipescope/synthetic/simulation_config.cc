@@ -22,7 +22,8 @@ struct KeyEntry {
 
 const std::vector<KeyEntry>& KeyTable() {
   static const std::vector<KeyEntry> table = {
-      {{"layout", "straight | square-loop | bend-tube"}, &SimulationConfig::layout},
+      {{"layout", "straight | square-loop | bend-tube | checkerboard | scale-target"},
+       &SimulationConfig::layout},
       {{"radius_m", "pipe inner radius, m"}, &SimulationConfig::radius_m},
       {{"length_m", "straight pipe length (bend-tube: each straight leg), m"},
        &SimulationConfig::length_m},
@@ -36,6 +37,15 @@ const std::vector<KeyEntry>& KeyTable() {
       {{"stub_m", "square-loop: dead-end arm beyond each T, m"}, &SimulationConfig::stub_m},
       {{"mirror_loop", "square-loop: turn right at every T instead of left (true/false)"},
        &SimulationConfig::mirror_loop},
+      {{"board_cols", "checkerboard: inner corners across"}, &SimulationConfig::board_cols},
+      {{"board_rows", "checkerboard: inner corners down"}, &SimulationConfig::board_rows},
+      {{"board_square_m", "checkerboard: square size, m"}, &SimulationConfig::board_square_m},
+      {{"target_cols", "scale-target: circles along the pipe"}, &SimulationConfig::target_cols},
+      {{"target_rows", "scale-target: circles around the pipe"}, &SimulationConfig::target_rows},
+      {{"target_spacing_m", "scale-target: centre-to-centre spacing, m"},
+       &SimulationConfig::target_spacing_m},
+      {{"target_diameter_m", "scale-target: circle diameter, m"},
+       &SimulationConfig::target_diameter_m},
       {{"material", "steel | fiberglass | concrete"}, &SimulationConfig::material},
       {{"texture_contrast", "wall texture contrast, 0 = uniform albedo"},
        &SimulationConfig::texture_contrast},
@@ -190,8 +200,15 @@ void ValidateConfig(const SimulationConfig& c) {
     return std::any_of(choices.begin(), choices.end(),
                        [&value](const char* choice) { return value == choice; });
   };
-  Require(one_of(c.layout, {"straight", "square-loop", "bend-tube"}), "layout",
-          "must be straight, square-loop or bend-tube");
+  Require(one_of(c.layout, {"straight", "square-loop", "bend-tube", "checkerboard", "scale-target"}),
+          "layout", "must be straight, square-loop, bend-tube, checkerboard or scale-target");
+  Require(c.board_cols >= 2 && c.board_rows >= 2, "board_cols",
+          "and board_rows must be at least 2");
+  Require(c.board_square_m > 0, "board_square_m", "must be positive");
+  Require(c.target_cols >= 2 && c.target_rows >= 2, "target_cols",
+          "and target_rows must be at least 2");
+  Require(c.target_spacing_m > c.target_diameter_m && c.target_diameter_m > 0,
+          "target_spacing_m", "must exceed target_diameter_m > 0");
   Require(one_of(c.material, {"steel", "fiberglass", "concrete"}), "material",
           "must be steel, fiberglass or concrete");
   Require(one_of(c.camera_model, {"pinhole-radtan", "kannala-brandt", "fisheye-poly"}),
