@@ -17,6 +17,9 @@ namespace {
 
 const Subcommand kSubcommands[] = {
     {"simulate", "Render a simulated pipe dataset with exact ground truth", SetupSimulateCommand},
+    {"gainmask", "Build the gain mask from white-card images (000 §3.2)", SetupGainmaskCommand},
+    {"undistort", "Write a dataset's frames rectified to a perspective image",
+     SetupUndistortCommand},
     {"evaluate", "Compare an estimated trajectory with ground truth (metrics.json)",
      SetupEvaluateCommand},
 };

@@ -19,5 +19,7 @@ struct Subcommand {
 // One per file in this folder.
 SubcommandRunner SetupEvaluateCommand(CLI::App* command);
 SubcommandRunner SetupSimulateCommand(CLI::App* command);
+SubcommandRunner SetupGainmaskCommand(CLI::App* command);
+SubcommandRunner SetupUndistortCommand(CLI::App* command);
 
 }  // namespace pipescope

@@ -36,6 +36,26 @@ cv::Mat BuildGainMask(const std::vector<cv::Mat>& white_card_images, double sigm
   return NormaliseToUnitMaximum(mean, "the mean white-card image");
 }
 
+cv::Mat ApplyGainMask(const cv::Mat& image, const cv::Mat& mask) {
+  if (image.size() != mask.size()) {
+    throw InputError("the gain mask is " + std::to_string(mask.cols) + "x" +
+                     std::to_string(mask.rows) + " but the frame is " + std::to_string(image.cols) +
+                     "x" + std::to_string(image.rows));
+  }
+  constexpr double kMinGain = 0.01;
+  cv::Mat gain;
+  cv::max(mask, kMinGain, gain);
+  cv::Mat image_float;
+  image.convertTo(image_float, CV_MAKETYPE(CV_32F, image.channels()));
+  if (image.channels() == 1) return image_float / gain;
+  std::vector<cv::Mat> channels;
+  cv::split(image_float, channels);
+  for (cv::Mat& channel : channels) channel /= gain;
+  cv::Mat corrected;
+  cv::merge(channels, corrected);
+  return corrected;
+}
+
 void WriteGainMask(const std::filesystem::path& path, const cv::Mat& mask) {
   cv::Mat mask16;
   NormaliseToUnitMaximum(mask, "the gain mask").convertTo(mask16, CV_16U, 65535.0);

@@ -11,6 +11,11 @@ namespace pipescope {
 // Dividing a frame by it removes the lighting pattern and the lens vignetting.
 cv::Mat BuildGainMask(const std::vector<cv::Mat>& white_card_images, double sigma_px);
 
+// Gain correction (000 §3.2): `image` divided by the mask, in floating point with arbitrary
+// range (CV_32F, one channel per input channel: colour channels share the mask). Mask values
+// below 1 % of its maximum are clamped there, so the dark rim of a lens does not explode.
+cv::Mat ApplyGainMask(const cv::Mat& image, const cv::Mat& mask);
+
 // 16-bit PNG, 65535 = the mask's maximum; written atomically.
 void WriteGainMask(const std::filesystem::path& path, const cv::Mat& mask);
 

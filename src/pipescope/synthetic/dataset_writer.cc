@@ -1,7 +1,6 @@
 #include "pipescope/synthetic/dataset_writer.h"
 
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
@@ -17,6 +16,7 @@
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
+#include "pipescope/util/staging_directory.h"
 #include "pipescope/util/timer.h"
 
 namespace pipescope {
@@ -45,20 +45,6 @@ std::string FrameName(int index) {
   return name;
 }
 
-void CheckOutputFolder(const std::filesystem::path& out) {
-  if (!std::filesystem::exists(out)) return;
-  if (!std::filesystem::is_directory(out)) {
-    throw InputError("--out " + out.string() + " exists and is not a folder");
-  }
-  const bool empty = std::filesystem::is_empty(out);
-  const bool earlier_dataset = std::filesystem::exists(out / "simulation.yaml");
-  if (!empty && !earlier_dataset) {
-    throw InputError("--out " + out.string() +
-                     " is a non-empty folder that is not a simulated dataset; refusing to "
-                     "replace it");
-  }
-}
-
 std::string ConfigAsYaml(const SimulationConfig& config) {
   std::string text =
       "# pipescope simulate: every key of this dataset\npreset: " + config.preset + "\n";
@@ -72,81 +58,63 @@ std::string ConfigAsYaml(const SimulationConfig& config) {
 
 SimulationSummary SimulateDataset(const SimulationConfig& config,
                                   const std::filesystem::path& out) {
-  CheckOutputFolder(out);
+  StagingDirectory staging_folder(out, "--out", "simulation.yaml");
+  const std::filesystem::path& staging = staging_folder.path();
   Timer timer;
 
   const Simulation simulation(config);
   const Camera& camera = simulation.camera();
   const Layout& layout = simulation.layout();
 
-  const std::filesystem::path parent = out.has_parent_path() ? out.parent_path() : ".";
-  std::filesystem::create_directories(parent);
-  const std::filesystem::path staging =
-      parent / ("." + out.filename().string() + ".partial-" + std::to_string(getpid()));
-  std::filesystem::remove_all(staging);
   std::filesystem::create_directories(staging / "images");
   std::filesystem::create_directories(staging / "white_card");
-  try {
-    // White cards along the route at nominal poses (000 §3.2); the brightest of the first sets
-    // the exposure, as an operator would set the camera up.
-    const cv::Mat vignetting = VignettingMap(camera, config.vignetting);
-    SensorOptions sensor;
-    sensor.noise_sigma = config.noise_sigma;
-    sensor.electrons_per_grey_level = config.electrons_per_grey_level;
-    std::vector<cv::Mat> white_cards;
-    for (int k = 0; k < config.white_card_count; ++k) {
-      const cv::Mat radiance = simulation.RenderWhiteCardRadiance(k);
-      if (k == 0) {
-        double max_value = 0.0;
-        cv::minMaxLoc(radiance.mul(vignetting), nullptr, &max_value);
-        if (!(max_value > 0.0)) throw std::runtime_error("the white card renders black");
-        sensor.exposure = config.exposure_target / max_value;
-      }
-      white_cards.push_back(
-          ApplySensor(radiance, vignetting, sensor, FrameSeed(config.seed, 1, k)));
-      WritePng(staging / "white_card" / FrameName(k), white_cards.back());
+  // White cards along the route at nominal poses (000 §3.2); the brightest of the first sets
+  // the exposure, as an operator would set the camera up.
+  const cv::Mat vignetting = VignettingMap(camera, config.vignetting);
+  SensorOptions sensor;
+  sensor.noise_sigma = config.noise_sigma;
+  sensor.electrons_per_grey_level = config.electrons_per_grey_level;
+  std::vector<cv::Mat> white_cards;
+  for (int k = 0; k < config.white_card_count; ++k) {
+    const cv::Mat radiance = simulation.RenderWhiteCardRadiance(k);
+    if (k == 0) {
+      double max_value = 0.0;
+      cv::minMaxLoc(radiance.mul(vignetting), nullptr, &max_value);
+      if (!(max_value > 0.0)) throw std::runtime_error("the white card renders black");
+      sensor.exposure = config.exposure_target / max_value;
     }
-    WriteGainMask(staging / "gain_mask.png",
-                  BuildGainMask(white_cards, kGainMaskSigmaFraction * config.width));
-
-    ProgressBar progress("simulate", config.frames);
-    for (int i = 0; i < config.frames; ++i) {
-      const cv::Mat radiance = simulation.RenderFrameRadiance(i);
-      WritePng(staging / "images" / FrameName(i),
-               ApplySensor(radiance, vignetting, sensor, FrameSeed(config.seed, 2, i)));
-      progress.Update(i + 1);
-    }
-    progress.Finish();
-
-    WriteTumTrajectory(staging / "groundtruth.tum", simulation.motion().Frames());
-    WriteCameraYaml(staging / "camera.yaml", camera);
-    WriteSceneYaml(staging / "scene.yaml", layout.scene);
-    WriteTextFileAtomically(staging / "simulation.yaml", ConfigAsYaml(config));
-    DatasetManifest manifest;
-    manifest.name = config.preset.empty() ? out.filename().string() : config.preset;
-    manifest.camera_path = staging / "camera.yaml";
-    manifest.images_dir = staging / "images";
-    manifest.fps = config.fps;
-    manifest.inner_radius_m = config.radius_m;
-    manifest.reference_scale_px_per_m = ReferenceScalePxPerM(config, camera);
-    manifest.gain_mask_path = staging / "gain_mask.png";
-    manifest.groundtruth_path = staging / "groundtruth.tum";
-    manifest.scene_path = staging / "scene.yaml";
-    WriteDatasetManifest(staging / "dataset.yaml", manifest);
-
-    // Swap the finished dataset in; an earlier one is removed only once the new one is whole.
-    std::filesystem::path previous;
-    if (std::filesystem::exists(out)) {
-      previous = parent / ("." + out.filename().string() + ".old-" + std::to_string(getpid()));
-      std::filesystem::rename(out, previous);
-    }
-    std::filesystem::rename(staging, out);
-    if (!previous.empty()) std::filesystem::remove_all(previous);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove_all(staging, ignored);
-    throw;
+    white_cards.push_back(ApplySensor(radiance, vignetting, sensor, FrameSeed(config.seed, 1, k)));
+    WritePng(staging / "white_card" / FrameName(k), white_cards.back());
   }
+  WriteGainMask(staging / "gain_mask.png",
+                BuildGainMask(white_cards, kGainMaskSigmaFraction * config.width));
+
+  ProgressBar progress("simulate", config.frames);
+  for (int i = 0; i < config.frames; ++i) {
+    const cv::Mat radiance = simulation.RenderFrameRadiance(i);
+    WritePng(staging / "images" / FrameName(i),
+             ApplySensor(radiance, vignetting, sensor, FrameSeed(config.seed, 2, i)));
+    progress.Update(i + 1);
+  }
+  progress.Finish();
+
+  WriteTumTrajectory(staging / "groundtruth.tum", simulation.motion().Frames());
+  WriteCameraYaml(staging / "camera.yaml", camera);
+  WriteSceneYaml(staging / "scene.yaml", layout.scene);
+  WriteTextFileAtomically(staging / "simulation.yaml", ConfigAsYaml(config));
+  DatasetManifest manifest;
+  manifest.name = config.preset.empty() ? out.filename().string() : config.preset;
+  manifest.camera_path = staging / "camera.yaml";
+  manifest.images_dir = staging / "images";
+  manifest.fps = config.fps;
+  manifest.inner_radius_m = config.radius_m;
+  manifest.reference_scale_px_per_m = ReferenceScalePxPerM(config, camera);
+  manifest.gain_mask_path = staging / "gain_mask.png";
+  manifest.groundtruth_path = staging / "groundtruth.tum";
+  manifest.scene_path = staging / "scene.yaml";
+  WriteDatasetManifest(staging / "dataset.yaml", manifest);
+
+  staging_folder.Commit();
   SimulationSummary summary;
   summary.frames = config.frames;
   summary.seconds = timer.ElapsedSeconds();

@@ -3,18 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pipescope/image/undistortion.h"
+
 namespace pipescope {
 
 cv::Mat VignettingMap(const Camera& camera, double vignetting) {
   // The optical centre of every model is its principal point; the corner farthest from it is
   // where the fall-off reaches its full value.
-  Eigen::Vector2d centre;
-  const std::vector<double>& params = camera.Params();
-  if (camera.ModelId() == CameraModelId::kFisheyePoly) {
-    centre = Eigen::Vector2d(params[4], params[5]);
-  } else {
-    centre = Eigen::Vector2d(params[2], params[3]);
-  }
+  const cv::Point2d principal_point = PrincipalPoint(camera);
+  const Eigen::Vector2d centre(principal_point.x, principal_point.y);
   const double w = camera.Width() - 1.0;
   const double h = camera.Height() - 1.0;
   const double max_radius_squared =

@@ -46,10 +46,6 @@ Eigen::Isometry3d BodyFromCam(const SimulationConfig& config) {
   return body_from_cam;
 }
 
-double CentralFocalLengthPx(const Camera& camera) {
-  return camera.Params()[0];  // fx for the two perspective-type models, k1 for fisheye-poly
-}
-
 std::optional<double> ReferenceScalePxPerM(const SimulationConfig& config, const Camera& camera) {
   if (config.view != "wall") return std::nullopt;
   const double distance_to_wall = config.radius_m + config.mount_offset_m;

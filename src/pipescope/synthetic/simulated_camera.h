@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "pipescope/camera/camera.h"
+#include "pipescope/image/undistortion.h"  // CentralFocalLengthPx
 #include "pipescope/synthetic/simulation_config.h"
 
 namespace pipescope {
@@ -21,10 +22,6 @@ Camera MakeSimulatedCamera(const SimulationConfig& config);
 // towards the wall below), image x along the pipe axis, image y along the pipe's X (000 eq. 18).
 // The camera sits mount_offset_m above the body centre (towards -y).
 Eigen::Isometry3d BodyFromCam(const SimulationConfig& config);
-
-// The focal length of the undistorted perspective image: the model's focal length at the
-// principal point (fx, f, or k1).
-double CentralFocalLengthPx(const Camera& camera);
 
 // Pixels per metre on the wall at the image centre of the undistorted image for a wall-looking
 // camera on the nominal path (000 §3.3): focal length over the distance to the wall. Empty for

@@ -1,0 +1,78 @@
+// `pipescope gainmask`: the gain mask of 000 §3.2 from white-card images.
+#include <spdlog/spdlog.h>
+
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "pipescope/cli/subcommand.h"
+#include "pipescope/image/gain_mask.h"
+#include "pipescope/io/image_source.h"
+#include "pipescope/util/error.h"
+
+namespace pipescope {
+namespace {
+
+// Smoothing when --sigma-px is not given: 1 % of the image width removes the noise and keeps
+// the lighting pattern, whose features span tens of percent of the image.
+constexpr double kDefaultSigmaFraction = 0.01;
+
+struct GainmaskFlags {
+  std::vector<std::string> inputs;
+  std::string out;
+  double sigma_px = -1.0;
+};
+
+// Image files named on the command line, with folders expanded to their images.
+std::vector<std::filesystem::path> ExpandInputs(const std::vector<std::string>& inputs) {
+  std::vector<std::filesystem::path> files;
+  for (const std::string& input : inputs) {
+    if (std::filesystem::is_directory(input)) {
+      const std::vector<std::filesystem::path> folder = ListImageFiles(input);
+      if (folder.empty()) throw InputError("folder " + input + " holds no images");
+      files.insert(files.end(), folder.begin(), folder.end());
+    } else if (std::filesystem::is_regular_file(input)) {
+      files.emplace_back(input);
+    } else {
+      throw InputError("image not found: " + input);
+    }
+  }
+  return files;
+}
+
+int RunGainmask(const GainmaskFlags& flags) {
+  std::vector<cv::Mat> images;
+  for (const std::filesystem::path& file : ExpandInputs(flags.inputs)) {
+    cv::Mat image = cv::imread(file.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    if (image.empty()) throw InputError("cannot read image " + file.string());
+    if (!images.empty() && image.size() != images.front().size()) {
+      throw InputError("image " + file.string() + " is " + std::to_string(image.cols) + "x" +
+                       std::to_string(image.rows) + " but the first is " +
+                       std::to_string(images.front().cols) + "x" +
+                       std::to_string(images.front().rows));
+    }
+    images.push_back(std::move(image));
+  }
+  const double sigma =
+      flags.sigma_px >= 0 ? flags.sigma_px : kDefaultSigmaFraction * images.front().cols;
+  WriteGainMask(flags.out, BuildGainMask(images, sigma));
+  spdlog::info("wrote {} from {} images (Gaussian sigma {:.1f} px)", flags.out, images.size(),
+               sigma);
+  return kExitSuccess;
+}
+
+}  // namespace
+
+SubcommandRunner SetupGainmaskCommand(CLI::App* command) {
+  auto flags = std::make_shared<GainmaskFlags>();
+  command->add_option("images", flags->inputs, "White-card images, or folders of them")->required();
+  command->add_option("--out", flags->out, "Gain mask to write (16-bit PNG)")->required();
+  command
+      ->add_option("--sigma-px", flags->sigma_px,
+                   "Gaussian smoothing, pixels (default 1 % of the image width)")
+      ->check(CLI::NonNegativeNumber);
+  return [flags] { return RunGainmask(*flags); };
+}
+
+}  // namespace pipescope

@@ -1,0 +1,52 @@
+#include "pipescope/image/undistortion.h"
+
+#include <opencv2/imgproc.hpp>
+
+namespace pipescope {
+namespace {
+
+Camera MakeRectifiedCamera(const Camera& camera) {
+  const double f = CentralFocalLengthPx(camera);
+  const cv::Point2d c = PrincipalPoint(camera);
+  return Camera(CameraModelId::kPinholeRadtan, camera.Width(), camera.Height(),
+                {f, f, c.x, c.y, 0.0, 0.0, 0.0, 0.0, 0.0});
+}
+
+}  // namespace
+
+double CentralFocalLengthPx(const Camera& camera) {
+  return camera.Params()[0];  // fx, or k1 for fisheye-poly
+}
+
+cv::Point2d PrincipalPoint(const Camera& camera) {
+  const std::vector<double>& params = camera.Params();
+  if (camera.ModelId() == CameraModelId::kFisheyePoly) return {params[4], params[5]};
+  return {params[2], params[3]};
+}
+
+Undistorter::Undistorter(const Camera& camera) : rectified_(MakeRectifiedCamera(camera)) {
+  const double f = CentralFocalLengthPx(camera);
+  const cv::Point2d c = PrincipalPoint(camera);
+  map_x_.create(camera.Height(), camera.Width(), CV_32F);
+  map_y_.create(camera.Height(), camera.Width(), CV_32F);
+  for (int y = 0; y < camera.Height(); ++y) {
+    for (int x = 0; x < camera.Width(); ++x) {
+      const Eigen::Vector3d ray((x - c.x) / f, (y - c.y) / f, 1.0);
+      Eigen::Vector2d source;
+      const ProjectionStatus status = camera.Project(ray, &source);
+      const bool seen = status == ProjectionStatus::kValid;
+      // Out-of-view pixels point outside the source so cv::remap fills them with 0.
+      map_x_.at<float>(y, x) = seen ? static_cast<float>(source.x()) : -10.0f;
+      map_y_.at<float>(y, x) = seen ? static_cast<float>(source.y()) : -10.0f;
+    }
+  }
+}
+
+cv::Mat Undistorter::Apply(const cv::Mat& image) const {
+  CV_Assert(image.cols == map_x_.cols && image.rows == map_x_.rows);
+  cv::Mat rectified;
+  cv::remap(image, rectified, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  return rectified;
+}
+
+}  // namespace pipescope
