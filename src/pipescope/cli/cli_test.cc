@@ -7,28 +7,12 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "pipescope/cli/cli_testing.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/testing.h"
 
 namespace pipescope {
 namespace {
-
-struct CommandResult {
-  int exit_status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-CommandResult RunPipescope(const std::string& arguments) {
-  const std::string command = std::string(PIPESCOPE_BINARY) + " " + arguments + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) result.output += buffer.data();
-  const int status = pclose(pipe);
-  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
 
 const std::string kDemo = std::string(PIPESCOPE_TEST_DATA_DIR) + "/demo/";
 
@@ -84,6 +68,48 @@ TEST(Cli, BadInputExitsTwoAndNamesTheCulprit) {
 
   EXPECT_EQ(RunPipescope("no-such-command").exit_status, 2);
   EXPECT_EQ(RunPipescope("").exit_status, 2);
+}
+
+TEST(Cli, SimulateListsPresetsAndRejectsBadKeys) {
+  const CommandResult list = RunPipescope("simulate --list-presets");
+  EXPECT_EQ(list.exit_status, 0);
+  for (const char* expected :
+       {"steel-6in", "fiberglass-network", "texture_contrast", "noise_sigma"}) {
+    EXPECT_NE(list.output.find(expected), std::string::npos) << expected;
+  }
+  const auto dir = MakeTestDirectory("cli_simulate_bad");
+  const std::string out = " --out " + (dir / "ds").string();
+  const CommandResult unknown_key =
+      RunPipescope("simulate --preset culvert --set colour=red" + out);
+  EXPECT_EQ(unknown_key.exit_status, 2);
+  EXPECT_NE(unknown_key.output.find("colour"), std::string::npos) << unknown_key.output;
+  const CommandResult bad_value = RunPipescope("simulate --preset culvert --set fps=-3" + out);
+  EXPECT_EQ(bad_value.exit_status, 2);
+  EXPECT_NE(bad_value.output.find("fps"), std::string::npos) << bad_value.output;
+  const CommandResult bad_preset = RunPipescope("simulate --preset sewer" + out);
+  EXPECT_EQ(bad_preset.exit_status, 2);
+  EXPECT_NE(bad_preset.output.find("--preset"), std::string::npos) << bad_preset.output;
+  EXPECT_EQ(RunPipescope("simulate --preset culvert").exit_status, 2);  // no --out
+  EXPECT_FALSE(std::filesystem::exists(dir / "ds"));
+}
+
+TEST(Cli, SimulateThenGainmaskAndUndistort) {
+  const auto dir = MakeTestDirectory("cli_simulate");
+  const std::string ds = (dir / "ds").string();
+  const CommandResult simulate = RunPipescope(
+      "simulate --preset steel-16in --frames 3 --set width=160 --set height=120 -q --out " + ds +
+      "/");  // a trailing slash is fine
+  ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "ds" / "images" / "000002.png"));
+  const CommandResult mask =
+      RunPipescope("gainmask " + ds + "/white_card --out " + (dir / "mask.png").string() + " -q");
+  ASSERT_EQ(mask.exit_status, 0) << mask.output;
+  const CommandResult rectified =
+      RunPipescope("undistort " + ds + " --out " + (dir / "rect").string() + " -q");
+  ASSERT_EQ(rectified.exit_status, 0) << rectified.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "rect" / "images" / "000002.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "rect" / "dataset.yaml"));
+  EXPECT_EQ(RunPipescope("gainmask " + (dir / "none").string() + " --out x.png").exit_status, 2);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <exception>
+#include <filesystem>
 #include <opencv2/core/utils/logger.hpp>
 #include <string>
 
@@ -17,9 +18,12 @@ namespace {
 
 const Subcommand kSubcommands[] = {
     {"simulate", "Render a simulated pipe dataset with exact ground truth", SetupSimulateCommand},
+    {"calibrate", "Calibrate the camera from checkerboard images (001 §II)", SetupCalibrateCommand},
     {"gainmask", "Build the gain mask from white-card images (000 §3.2)", SetupGainmaskCommand},
     {"undistort", "Write a dataset's frames rectified to a perspective image",
      SetupUndistortCommand},
+    {"refscale", "Measure the reference scale from an image of a circle target (000 §3.3)",
+     SetupRefscaleCommand},
     {"evaluate", "Compare an estimated trajectory with ground truth (metrics.json)",
      SetupEvaluateCommand},
 };
@@ -61,6 +65,11 @@ int RunMain(int argc, char** argv) {
   try {
     return runner();
   } catch (const InputError& error) {
+    spdlog::error("{}", error.what());
+    return kExitInputError;
+  } catch (const std::filesystem::filesystem_error& error) {
+    // A folder that cannot be written or read (permissions, full disk) is the user's to fix;
+    // the message names the paths.
     spdlog::error("{}", error.what());
     return kExitInputError;
   } catch (const std::exception& error) {

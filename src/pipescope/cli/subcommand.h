@@ -21,5 +21,7 @@ SubcommandRunner SetupEvaluateCommand(CLI::App* command);
 SubcommandRunner SetupSimulateCommand(CLI::App* command);
 SubcommandRunner SetupGainmaskCommand(CLI::App* command);
 SubcommandRunner SetupUndistortCommand(CLI::App* command);
+SubcommandRunner SetupRefscaleCommand(CLI::App* command);
+SubcommandRunner SetupCalibrateCommand(CLI::App* command);
 
 }  // namespace pipescope

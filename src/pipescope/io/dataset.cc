@@ -1,5 +1,7 @@
 #include "pipescope/io/dataset.h"
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <sstream>
 
@@ -139,6 +141,10 @@ DatasetManifest OpenDataset(const std::filesystem::path& dataset,
     manifest.name = dataset.filename().string();
     manifest.images_dir = dataset;
     manifest.fps = kDefaultFolderFps;
+    if (!overrides.fps) {
+      spdlog::warn("{} has no dataset.yaml: assuming {} frames per second (give --fps)",
+                   dataset.string(), kDefaultFolderFps);
+    }
   } else {
     throw InputError("dataset not found: " + dataset.string() +
                      " (expected a folder with dataset.yaml, a manifest file, or an image folder)");

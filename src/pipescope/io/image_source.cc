@@ -118,6 +118,22 @@ std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& f
   return files;
 }
 
+std::vector<std::filesystem::path> ExpandImageArguments(const std::vector<std::string>& arguments) {
+  std::vector<std::filesystem::path> files;
+  for (const std::string& argument : arguments) {
+    if (std::filesystem::is_directory(argument)) {
+      const std::vector<std::filesystem::path> folder = ListImageFiles(argument);
+      if (folder.empty()) throw InputError("folder " + argument + " holds no images");
+      files.insert(files.end(), folder.begin(), folder.end());
+    } else if (std::filesystem::is_regular_file(argument)) {
+      files.emplace_back(argument);
+    } else {
+      throw InputError("image not found: " + argument);
+    }
+  }
+  return files;
+}
+
 std::vector<double> ReadTimestampsFile(const std::filesystem::path& path) {
   std::ifstream stream(path);
   if (!stream) throw InputError("cannot read timestamps file " + path.string());

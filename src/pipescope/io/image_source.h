@@ -70,6 +70,10 @@ cv::Mat ToFloatGrey(const cv::Mat& image);
 // Image files of a folder (PNG, JPEG, TIFF, BMP), sorted by file name.
 std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& folder);
 
+// The images named on a command line (`IMAGES...`): files as given, folders expanded to their
+// images by ListImageFiles. Throws InputError for a missing path or a folder without images.
+std::vector<std::filesystem::path> ExpandImageArguments(const std::vector<std::string>& arguments);
+
 // Reads a timestamps file: one time in seconds per line, '#' comments allowed.
 std::vector<double> ReadTimestampsFile(const std::filesystem::path& path);
 

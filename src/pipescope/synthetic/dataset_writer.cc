@@ -9,6 +9,7 @@
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/synthetic/checkerboard.h"
 #include "pipescope/synthetic/scene_yaml.h"
 #include "pipescope/synthetic/sensor.h"
 #include "pipescope/synthetic/simulated_camera.h"
@@ -16,21 +17,18 @@
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
+#include "pipescope/util/random.h"
 #include "pipescope/util/staging_directory.h"
 #include "pipescope/util/timer.h"
 
 namespace pipescope {
 namespace {
 
+// Random streams of the sensor noise (the motion uses streams below 100).
+constexpr std::uint64_t kWhiteCardNoiseStream = 101;
+constexpr std::uint64_t kFrameNoiseStream = 102;
 // Smoothing of the gain mask, as a fraction of the image width.
 constexpr double kGainMaskSigmaFraction = 0.01;
-
-std::uint64_t FrameSeed(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
-  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + stream * 0xD1B54A32D192ED03ULL + index;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
 
 void WritePng(const std::filesystem::path& path, const cv::Mat& image) {
   // Fast compression: the simulator is limited by rendering, not disk.
@@ -56,8 +54,12 @@ std::string ConfigAsYaml(const SimulationConfig& config) {
 
 }  // namespace
 
+std::string SimulationConfigYaml(const SimulationConfig& config) { return ConfigAsYaml(config); }
+
 SimulationSummary SimulateDataset(const SimulationConfig& config,
                                   const std::filesystem::path& out) {
+  // Calibration views have no pipe, route or lights: their own writer (issue 4).
+  if (config.layout == "checkerboard") return SimulateCheckerboardDataset(config, out);
   StagingDirectory staging_folder(out, "--out", "simulation.yaml");
   const std::filesystem::path& staging = staging_folder.path();
   Timer timer;
@@ -83,7 +85,8 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
       if (!(max_value > 0.0)) throw std::runtime_error("the white card renders black");
       sensor.exposure = config.exposure_target / max_value;
     }
-    white_cards.push_back(ApplySensor(radiance, vignetting, sensor, FrameSeed(config.seed, 1, k)));
+    white_cards.push_back(
+        ApplySensor(radiance, vignetting, sensor, MixSeed(config.seed, kWhiteCardNoiseStream, k)));
     WritePng(staging / "white_card" / FrameName(k), white_cards.back());
   }
   WriteGainMask(staging / "gain_mask.png",
@@ -93,7 +96,7 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
   for (int i = 0; i < config.frames; ++i) {
     const cv::Mat radiance = simulation.RenderFrameRadiance(i);
     WritePng(staging / "images" / FrameName(i),
-             ApplySensor(radiance, vignetting, sensor, FrameSeed(config.seed, 2, i)));
+             ApplySensor(radiance, vignetting, sensor, MixSeed(config.seed, kFrameNoiseStream, i)));
     progress.Update(i + 1);
   }
   progress.Finish();
@@ -101,6 +104,9 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
   WriteTumTrajectory(staging / "groundtruth.tum", simulation.motion().Frames());
   WriteCameraYaml(staging / "camera.yaml", camera);
   WriteSceneYaml(staging / "scene.yaml", layout.scene);
+  if (simulation.scale_target() != nullptr) {
+    WriteScaleTargetYaml(staging / "target.yaml", *simulation.scale_target());
+  }
   WriteTextFileAtomically(staging / "simulation.yaml", ConfigAsYaml(config));
   DatasetManifest manifest;
   manifest.name = config.preset.empty() ? out.filename().string() : config.preset;

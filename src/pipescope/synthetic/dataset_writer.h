@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "pipescope/synthetic/simulation_config.h"
 
@@ -14,10 +15,14 @@ struct SimulationSummary {
 
 // Renders the dataset `config` describes into `out` (GUIDE §4): images/, camera.yaml,
 // groundtruth.tum, scene.yaml, white_card/, gain_mask.png, simulation.yaml (every key, for
-// provenance) and dataset.yaml. Everything is written into a temporary sibling folder that is
-// renamed onto `out` at the end, so a failed or interrupted run leaves nothing half written.
-// `out` may be missing, empty, or an earlier simulated dataset (it is replaced); any other
-// existing folder is an InputError.
+// provenance) and dataset.yaml; layout scale-target adds target.yaml. Everything is written into a
+// temporary sibling folder that is renamed onto `out` at the end, so a failed or interrupted run
+// leaves nothing half written. `out` may be missing, empty, or an earlier simulated dataset (it is
+// replaced); any other existing folder is an InputError. Layout checkerboard writes a calibration
+// dataset instead (checkerboard.h).
 SimulationSummary SimulateDataset(const SimulationConfig& config, const std::filesystem::path& out);
+
+// simulation.yaml: every key of `config`, for provenance and as the mark of a simulated dataset.
+std::string SimulationConfigYaml(const SimulationConfig& config);
 
 }  // namespace pipescope

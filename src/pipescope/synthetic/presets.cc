@@ -70,6 +70,7 @@ SimulationConfig FiberglassNetwork() {
       "fisheye-poly 1280x960, 7.5 fps, 8 LEDs, route start-T1-T2-T3-T4-end, 26000 frames";
   c.layout = "square-loop";
   c.radius_m = 0.2;
+  c.length_m = 8.150;  // T1-T2, Table I
   c.end_margin_m = 0.3;
   c.turn_radius_m = 0.2;
   c.stub_m = 1.5;
@@ -163,14 +164,72 @@ SimulationConfig TubeBend() {
   return c;
 }
 
+// 000 §3.3 (Fig. 7): a card of black circles stuck to the wall of pipe 1 under its
+// wall-looking camera, for `pipescope refscale`. The robot stays on the pipe axis (no offset,
+// no wobble) so the distance to the wall, and with it the true reference_scale_px_per_m, holds
+// for every frame; it rolls a little about the axis and moves 2 mm a frame, so the target
+// wanders about the image centre. Pipe 2's set-up: --set radius_m=0.19378 --set width=640
+// --set height=480 --set fov_deg=25 --set led_ring_radius_m=0.03.
+SimulationConfig ScaleTargetPreset() {
+  SimulationConfig c = Steel6In();
+  c.preset = "scale-target";
+  c.description =
+      "000 §3.3: reference-scale target, 5x4 black circles at 10 mm on a white card on the "
+      "wall of pipe 1 under its wall-looking camera, 5 frames on the pipe axis";
+  c.layout = "scale-target";
+  c.length_m = 1.0;
+  c.end_margin_m = 0.45;
+  c.target_cols = 5;
+  c.target_rows = 4;
+  c.target_spacing_m = 0.01;
+  c.target_diameter_m = 0.004;
+  c.frames = 5;
+  c.speed_m_s = 0.002 * c.fps;
+  c.speed_variation = 0.0;
+  c.lateral_offset_m = 0.0;
+  c.wobble_deg = 0.0;
+  c.roll_deg = 2.0;
+  c.wobble_wavelength_m = 0.02;  // the roll changes from frame to frame
+  return c;
+}
+
+// 001 §II / issue 4: views of a 9x6 checkerboard (25 mm squares) at varied poses for
+// `pipescope calibrate`, through any camera (--set camera_model=..., fov_deg, width, height);
+// the 190-degree lens of 001 is --set camera_model=fisheye-poly --set fov_deg=190. Timestamps
+// are one view a second.
+SimulationConfig CheckerboardPreset() {
+  SimulationConfig c;
+  c.preset = "checkerboard";
+  c.description =
+      "001 §II / issue 4: 20 views of a 9x6 checkerboard, 25 mm squares, tilted up to 50 deg "
+      "and covering the image to its corners, through any camera_model (1024x768 70 deg "
+      "pinhole-radtan by default), for pipescope calibrate";
+  c.layout = "checkerboard";
+  c.board_cols = 9;
+  c.board_rows = 6;
+  c.board_square_m = 0.025;
+  c.camera_model = "pinhole-radtan";
+  c.width = 1024;
+  c.height = 768;
+  c.fov_deg = 70.0;
+  c.fps = 1.0;
+  c.frames = 20;
+  return c;
+}
+
 struct PresetEntry {
   const char* name;
   SimulationConfig (*make)();
 };
 
 const PresetEntry kPresets[] = {
-    {"steel-6in", Steel6In}, {"steel-16in", Steel16In}, {"fiberglass-network", FiberglassNetwork},
-    {"culvert", Culvert},    {"tube-bend", TubeBend},
+    {"steel-6in", Steel6In},
+    {"steel-16in", Steel16In},
+    {"fiberglass-network", FiberglassNetwork},
+    {"culvert", Culvert},
+    {"tube-bend", TubeBend},
+    {"scale-target", ScaleTargetPreset},
+    {"checkerboard", CheckerboardPreset},
 };
 
 }  // namespace

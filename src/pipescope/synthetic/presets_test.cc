@@ -6,6 +6,7 @@
 
 #include "pipescope/synthetic/scene_layouts.h"
 #include "pipescope/synthetic/simulated_camera.h"
+#include "pipescope/synthetic/simulation.h"
 #include "pipescope/util/testing.h"
 
 namespace pipescope {
@@ -110,21 +111,31 @@ TEST(SimulationConfig, SetParsesAndValidatesKeys) {
 }
 
 TEST(SimulatedCamera, ReferenceScaleMatchesProjectedWallSpacing) {
+  // Through the whole chain: the camera mounted 1 cm above the body centre on the nominal path,
+  // its optical axis cast into the scene, and two wall points 1 mm apart along the pipe axis
+  // around that hit projected back into the image.
   SimulationConfig config = PresetConfig("steel-6in");
-  const Camera camera = MakeSimulatedCamera(config);
-  const std::optional<double> zeta = ReferenceScalePxPerM(config, camera);
+  config.mount_offset_m = 0.01;
+  config.lateral_offset_m = 0.0;
+  const Simulation simulation(config);
+  const std::optional<double> zeta = ReferenceScalePxPerM(config, simulation.camera());
   ASSERT_TRUE(zeta.has_value());
-  // Two wall points 1 mm apart along the axis under the nominal camera, which looks along +Y at
-  // the wall r away with image x along the axis; so near the principal point the radial
-  // distortion changes the scale by k1 r^2, under 3e-6.
+  const Eigen::Isometry3d world_from_cam = simulation.motion().NominalWorldFromCam(1.0);
+  const std::optional<WallHit> hit = simulation.layout().scene.Intersect(
+      {world_from_cam.translation(), world_from_cam.linear().col(2)});
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(hit->distance, config.radius_m + config.mount_offset_m, 1e-12);
+  const Eigen::Isometry3d cam_from_world = world_from_cam.inverse();
   Eigen::Vector2d a, b;
-  ASSERT_EQ(camera.Project(Eigen::Vector3d(-0.0005, 0, config.radius_m), &a),
+  const Eigen::Vector3d along_axis(0, 0, 0.0005);
+  ASSERT_EQ(simulation.camera().Project(cam_from_world * (hit->point - along_axis), &a),
             ProjectionStatus::kValid);
-  ASSERT_EQ(camera.Project(Eigen::Vector3d(0.0005, 0, config.radius_m), &b),
+  ASSERT_EQ(simulation.camera().Project(cam_from_world * (hit->point + along_axis), &b),
             ProjectionStatus::kValid);
+  // Near the principal point the radial distortion changes the scale by k1 r^2, under 3e-6.
   EXPECT_NEAR((b - a).norm() / 0.001, *zeta, 1e-5 * *zeta);
   config.view = "forward";
-  EXPECT_FALSE(ReferenceScalePxPerM(config, camera).has_value());
+  EXPECT_FALSE(ReferenceScalePxPerM(config, simulation.camera()).has_value());
 }
 
 }  // namespace

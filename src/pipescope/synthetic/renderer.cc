@@ -73,8 +73,15 @@ void Renderer::RenderRows(const Eigen::Isometry3d& world_from_cam, const RenderS
         const double circumference = 2.0 * M_PI * scene_.sections()[hit->section].radius;
         const WallSample sample =
             texture_.Sample(hit->section, hit->h_m, hit->s_m, circumference, footprint);
-        albedo = sample.albedo;
-        specularity = settings.specular_strength * sample.specularity;
+        float painted_albedo = sample.albedo;
+        auto painted_specularity =
+            static_cast<float>(settings.specular_strength * sample.specularity);
+        if (settings.scale_target != nullptr) {
+          settings.scale_target->Paint(hit->section, hit->h_m, hit->s_m, footprint, &painted_albedo,
+                                       &painted_specularity);
+        }
+        albedo = painted_albedo;
+        specularity = painted_specularity;
       }
       const Eigen::Vector3d point_cam = rotation_t * (hit->point - origin);
       const Eigen::Vector3d normal_cam = rotation_t * hit->normal;

@@ -7,6 +7,7 @@
 
 #include "pipescope/camera/camera.h"
 #include "pipescope/synthetic/lighting.h"
+#include "pipescope/synthetic/scale_target.h"
 #include "pipescope/synthetic/scene.h"
 #include "pipescope/synthetic/wall_texture.h"
 
@@ -17,6 +18,8 @@ struct RenderSettings {
   // white-card images of 000 §3.2.
   float uniform_albedo = -1.0f;
   double specular_strength = 1.0;  // scales the texture's specularity
+  // When set, this reference-scale target (000 §3.3) is painted over the textured wall.
+  const ScaleTarget* scale_target = nullptr;
 };
 
 // Ray-casts the scene through the project's own camera model: each pixel's bearing comes from

@@ -128,6 +128,7 @@ TEST_P(RendererReprojectionTest, WallPointsLandOnTheSameTexture) {
   config.height = 180 * scale;
   if (model != "fisheye-poly") config.fov_deg = std::min(config.fov_deg, 100.0);
   config.frames = 40;
+  config.stop_count = 0;  // the frames compared must be apart in space
   // Highlights move over the wall with the viewpoint (as they should); the texture does not.
   config.specular_strength = 0.0;
   const Simulation simulation(config);
@@ -155,6 +156,28 @@ INSTANTIATE_TEST_SUITE_P(
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });
+
+}  // namespace
+}  // namespace pipescope
+
+namespace pipescope {
+namespace {
+
+TEST(Renderer, ImageDoesNotDependOnTheThreadCount) {
+  SimulationConfig config = PresetConfig("fiberglass-network");
+  config.width = 200;
+  config.height = 150;
+  config.frames = 2;
+  const Simulation simulation(config);
+  const int threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  const cv::Mat one_thread = simulation.RenderFrameRadiance(1);
+  cv::setNumThreads(4);
+  const cv::Mat four_threads = simulation.RenderFrameRadiance(1);
+  cv::setNumThreads(threads);
+  EXPECT_GT(cv::norm(one_thread, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(one_thread, four_threads, cv::NORM_INF), 0.0);
+}
 
 }  // namespace
 }  // namespace pipescope

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 namespace pipescope {
 namespace {
@@ -74,7 +75,9 @@ Layout BendTubeLayout(const SimulationConfig& c) {
 }
 
 Layout SquareLoopLayout(const SimulationConfig& c) {
-  const std::vector<Eigen::Vector3d> t = SquareLoopCorners(c.mirror_loop);
+  // length_m sets the size of the loop: the T1-T2 distance, the others scaled alike.
+  std::vector<Eigen::Vector3d> t = SquareLoopCorners(c.mirror_loop);
+  for (Eigen::Vector3d& corner : t) corner *= c.length_m / kT1T2;
   Scene scene;
   // Side i runs from T_i (where it leaves as a branch) through T_{i+1} (as that T's through
   // run) on to T_{i+1}'s dead-end arm. Side 4 (T4 -> T1 and T1's arm) holds the start.
@@ -124,6 +127,9 @@ std::vector<Eigen::Vector3d> SquareLoopCorners(bool mirror) {
   options.parameter_tolerance = 1e-14;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
+  if (!summary.IsSolutionUsable()) {
+    throw std::runtime_error("square-loop fit failed: " + summary.BriefReport());
+  }
   std::vector<Eigen::Vector3d> corners;
   for (const auto& point : xz) corners.emplace_back(point[0], 0.0, point[1]);
   return corners;

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <numbers>
@@ -537,54 +536,5 @@ TEST(SceneValidation, RejectsDegenerateGeometry) {
 }
 
 // Forward-looking camera rays over a 190 degree field of view, as the fisheye presets render.
-std::vector<Ray> ForwardRays(const Vector3d& origin, const Eigen::Matrix3d& world_from_cam,
-                             int size) {
-  std::vector<Ray> rays;
-  for (int row = 0; row < size; ++row) {
-    for (int col = 0; col < size; ++col) {
-      const double x = 2.0 * col / (size - 1) - 1, y = 2.0 * row / (size - 1) - 1;
-      const double theta = std::hypot(x, y) * 95 * kPi / 180, psi = std::atan2(y, x);
-      const Vector3d cam(std::sin(theta) * std::cos(psi), std::sin(theta) * std::sin(psi),
-                         std::cos(theta));
-      rays.push_back({origin, world_from_cam * cam});
-    }
-  }
-  return rays;
-}
-
-double NanosecondsPerRay(const Scene& scene, const std::vector<Ray>& rays, int* hits) {
-  *hits = 0;
-  const auto start = std::chrono::steady_clock::now();
-  for (const Ray& ray : rays) *hits += scene.Intersect(ray).has_value();
-  const auto end = std::chrono::steady_clock::now();
-  return std::chrono::duration<double, std::nano>(end - start).count() / rays.size();
-}
-
-TEST(SceneTiming, PrintsNanosecondsPerRay) {
-  // Not an assertion: timings depend on the machine and its load.
-  const Eigen::Matrix3d looking_along_z = Eigen::Matrix3d::Identity();
-  int hits = 0;
-  const Scene straight = StraightPipe();
-  const double straight_ns = NanosecondsPerRay(
-      straight, ForwardRays(Vector3d(0.01, -0.02, 0), looking_along_z, 600), &hits);
-  std::cout << "straight pipe: " << straight_ns << " ns/ray (" << hits << " hits)\n";
-
-  const Scene bend = StraightBendStraight();
-  const double bend_ns = NanosecondsPerRay(
-      bend, ForwardRays(Vector3d(0.01, -0.02, -0.5), looking_along_z, 600), &hits);
-  std::cout << "straight-bend-straight: " << bend_ns << " ns/ray (" << hits << " hits)\n";
-
-  const Scene loop = SquareLoop(8.15, 0.2);
-  std::vector<Ray> rays;
-  for (const double z : {-1.0, -0.1, 0.1, 2.0, 8.0}) {
-    const auto more = ForwardRays(Vector3d(0.01, -0.02, z), looking_along_z, 300);
-    rays.insert(rays.end(), more.begin(), more.end());
-  }
-  const double loop_ns = NanosecondsPerRay(loop, rays, &hits);
-  std::cout << "square loop of 4 T's (" << loop.sections().size() << " sections): " << loop_ns
-            << " ns/ray (" << hits << " hits)\n";
-  EXPECT_GT(hits, 0);
-}
-
 }  // namespace
 }  // namespace pipescope

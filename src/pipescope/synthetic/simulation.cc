@@ -70,6 +70,16 @@ Simulation::Simulation(const SimulationConfig& config)
       std::make_unique<Renderer>(camera_, layout_.scene, texture_, lighting_, max_view_angle);
   motion_ = std::make_unique<TrajectoryGenerator>(layout_.route, MotionOptionsFor(config, layout_),
                                                   BodyFromCam(config));
+  if (config.layout == "scale-target") {
+    // The target lies under the middle frame's image centre, where 000 §3.3 measures zeta.
+    ScaleTargetOptions target;
+    target.cols = config.target_cols;
+    target.rows = config.target_rows;
+    target.spacing_m = config.target_spacing_m;
+    target.diameter_m = config.target_diameter_m;
+    scale_target_ =
+        ScaleTarget::AtOpticalAxis(target, layout_.scene, FramePose((config.frames - 1) / 2));
+  }
 }
 
 Eigen::Isometry3d Simulation::FramePose(int index) const {
@@ -77,7 +87,7 @@ Eigen::Isometry3d Simulation::FramePose(int index) const {
 }
 
 cv::Mat Simulation::RenderFrameRadiance(int index) const {
-  const RenderSettings settings{-1.0f, config_.specular_strength};
+  const RenderSettings settings{-1.0f, config_.specular_strength, scale_target()};
   const double t = index / config_.fps;
   const int samples = config_.motion_blur_samples;
   if (samples <= 1) return renderer_->RenderRadiance(motion_->WorldFromCam(t), settings);

@@ -6,6 +6,7 @@
 #include "pipescope/camera/camera.h"
 #include "pipescope/synthetic/lighting.h"
 #include "pipescope/synthetic/renderer.h"
+#include "pipescope/synthetic/scale_target.h"
 #include "pipescope/synthetic/scene_layouts.h"
 #include "pipescope/synthetic/simulation_config.h"
 #include "pipescope/synthetic/trajectory_generator.h"
@@ -18,6 +19,9 @@ namespace pipescope {
 class Simulation {
  public:
   explicit Simulation(const SimulationConfig& config);  // validates the config
+  // The renderer holds references to the members: a copy or move would leave them dangling.
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
 
   // Linear radiance of frame `index` (averaged over the exposure when motion blur is on).
   cv::Mat RenderFrameRadiance(int index) const;
@@ -32,6 +36,8 @@ class Simulation {
   const Layout& layout() const { return layout_; }
   const Renderer& renderer() const { return *renderer_; }
   const TrajectoryGenerator& motion() const { return *motion_; }
+  // The circle-grid target of layout scale-target (000 §3.3), null for other layouts.
+  const ScaleTarget* scale_target() const { return scale_target_ ? &*scale_target_ : nullptr; }
 
  private:
   SimulationConfig config_;
@@ -41,6 +47,7 @@ class Simulation {
   Lighting lighting_;
   std::unique_ptr<Renderer> renderer_;
   std::unique_ptr<TrajectoryGenerator> motion_;
+  std::optional<ScaleTarget> scale_target_;
 };
 
 }  // namespace pipescope

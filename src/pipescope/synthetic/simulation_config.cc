@@ -25,7 +25,9 @@ const std::vector<KeyEntry>& KeyTable() {
       {{"layout", "straight | square-loop | bend-tube | checkerboard | scale-target"},
        &SimulationConfig::layout},
       {{"radius_m", "pipe inner radius, m"}, &SimulationConfig::radius_m},
-      {{"length_m", "straight pipe length (bend-tube: each straight leg), m"},
+      {{"length_m",
+        "straight pipe length (bend-tube: each straight leg; square-loop: T1-T2 distance, the "
+        "loop scaled alike), m"},
        &SimulationConfig::length_m},
       {{"end_margin_m", "travel stops this far from an open end, m"},
        &SimulationConfig::end_margin_m},
@@ -131,6 +133,9 @@ T ParseNumber(const std::string& key, const std::string& text) {
       value = std::stoull(text, &used);
     }
     if (used != text.size()) throw std::invalid_argument("trailing characters");
+    if constexpr (std::is_same_v<T, double>) {
+      if (!std::isfinite(value)) throw std::invalid_argument("not finite");
+    }
     return value;
   } catch (const std::exception&) {
     throw InputError("--set " + key + "=" + text + ": not a valid number");
@@ -196,19 +201,21 @@ void SetConfigValue(SimulationConfig* config, const std::string& assignment) {
 }
 
 void ValidateConfig(const SimulationConfig& c) {
+  Require(c.fps > 0, "fps", "must be positive");  // first: later checks divide by it
   auto one_of = [](const std::string& value, std::initializer_list<const char*> choices) {
     return std::any_of(choices.begin(), choices.end(),
                        [&value](const char* choice) { return value == choice; });
   };
-  Require(one_of(c.layout, {"straight", "square-loop", "bend-tube", "checkerboard", "scale-target"}),
-          "layout", "must be straight, square-loop, bend-tube, checkerboard or scale-target");
+  Require(
+      one_of(c.layout, {"straight", "square-loop", "bend-tube", "checkerboard", "scale-target"}),
+      "layout", "must be straight, square-loop, bend-tube, checkerboard or scale-target");
   Require(c.board_cols >= 2 && c.board_rows >= 2, "board_cols",
           "and board_rows must be at least 2");
   Require(c.board_square_m > 0, "board_square_m", "must be positive");
   Require(c.target_cols >= 2 && c.target_rows >= 2, "target_cols",
           "and target_rows must be at least 2");
-  Require(c.target_spacing_m > c.target_diameter_m && c.target_diameter_m > 0,
-          "target_spacing_m", "must exceed target_diameter_m > 0");
+  Require(c.target_spacing_m > c.target_diameter_m && c.target_diameter_m > 0, "target_spacing_m",
+          "must exceed target_diameter_m > 0");
   Require(one_of(c.material, {"steel", "fiberglass", "concrete"}), "material",
           "must be steel, fiberglass or concrete");
   Require(one_of(c.camera_model, {"pinhole-radtan", "kannala-brandt", "fisheye-poly"}),
@@ -217,6 +224,10 @@ void ValidateConfig(const SimulationConfig& c) {
   Require(c.radius_m > 0 && std::isfinite(c.radius_m), "radius_m", "must be positive");
   Require(c.length_m > 2 * c.end_margin_m, "length_m", "must exceed twice end_margin_m");
   Require(c.end_margin_m >= 0, "end_margin_m", "must not be negative");
+  if (c.layout == "scale-target") {
+    // The target is placed where the optical axis meets the wall (000 §3.3).
+    Require(c.view == "wall", "view", "must be wall for layout scale-target");
+  }
   if (c.layout == "bend-tube") {
     Require(c.bend_radius_m > c.radius_m, "bend_radius_m", "must exceed radius_m");
     Require(c.bend_angle_deg > 0 && c.bend_angle_deg <= 180, "bend_angle_deg",
@@ -236,7 +247,8 @@ void ValidateConfig(const SimulationConfig& c) {
   const double max_fov = c.camera_model == "fisheye-poly" ? 240.0 : 170.0;
   Require(c.fov_deg > 1 && c.fov_deg < max_fov, "fov_deg",
           "must be in (1, " + FormatDouble(max_fov) + ") for " + c.camera_model);
-  Require(c.distortion >= 0 && c.distortion <= 0.3, "distortion", "must be in [0, 0.3]");
+  // Beyond 4/27 a pinhole-radtan corner pixel has no pre-image (k1 = -distortion / r_corner^2).
+  Require(c.distortion >= 0 && c.distortion <= 0.14, "distortion", "must be in [0, 0.14]");
   Require(c.led_count >= 1 && c.led_count <= 64, "led_count", "must be in [1, 64]");
   Require(c.led_ring_radius_m >= 0 && c.led_ring_radius_m < c.radius_m, "led_ring_radius_m",
           "must be in [0, radius_m)");
@@ -253,14 +265,16 @@ void ValidateConfig(const SimulationConfig& c) {
           "must be in [0, 1 / fps]");
   Require(c.white_card_count >= 1 && c.white_card_count <= 100, "white_card_count",
           "must be in [1, 100]");
-  Require(c.fps > 0, "fps", "must be positive");
-  Require(c.frames >= 1, "frames", "must be at least 1");
+  Require(c.frames >= 1 && c.frames <= 10000000, "frames", "must be in [1, 10000000]");
   Require(c.speed_m_s >= 0, "speed_m_s", "must not be negative");
   Require(c.speed_variation >= 0 && c.speed_variation < 1, "speed_variation", "must be in [0, 1)");
   Require(c.stop_count >= 0, "stop_count", "must not be negative");
   Require(c.stop_duration_s >= 0, "stop_duration_s", "must not be negative");
   Require(c.lateral_offset_m >= 0 && c.lateral_offset_m < 0.5 * c.radius_m, "lateral_offset_m",
           "must be in [0, radius_m / 2)");
+  // The camera must stay well inside the pipe however the robot sways.
+  Require(std::abs(c.mount_offset_m) + std::sqrt(2.0) * c.lateral_offset_m < 0.8 * c.radius_m,
+          "mount_offset_m", "plus the lateral sway must keep the camera inside 0.8 radius_m");
   Require(c.wobble_wavelength_m > 0, "wobble_wavelength_m", "must be positive");
 }
 

@@ -16,14 +16,14 @@ struct SimulationConfig {
   // straight | square-loop | bend-tube | checkerboard (calibration views of a planar board) |
   // scale-target (a circle-grid target on the wall, 000 §3.3)
   std::string layout = "straight";
-  double radius_m = 0.07666;        // inner radius
-  double length_m = 6.0;            // straight pipe length, or each leg of a bend-tube
-  double end_margin_m = 0.1;        // travel stops this far from an open end
-  double bend_radius_m = 0.5;       // bend-tube: centreline radius of the bend
-  double bend_angle_deg = 90.0;     // bend-tube
-  double turn_radius_m = 0.15;      // square-loop: the robot's turning radius inside a T
-  double stub_m = 1.5;              // square-loop: length of the dead-end arm beyond each T
-  bool mirror_loop = false;         // square-loop: turn right at every T instead of left
+  double radius_m = 0.07666;     // inner radius
+  double length_m = 6.0;         // straight pipe length, or each leg of a bend-tube
+  double end_margin_m = 0.1;     // travel stops this far from an open end
+  double bend_radius_m = 0.5;    // bend-tube: centreline radius of the bend
+  double bend_angle_deg = 90.0;  // bend-tube
+  double turn_radius_m = 0.15;   // square-loop: the robot's turning radius inside a T
+  double stub_m = 1.5;           // square-loop: length of the dead-end arm beyond each T
+  bool mirror_loop = false;      // square-loop: turn right at every T instead of left
 
   // Calibration board (layout checkerboard): inner corners and square size.
   int board_cols = 9;
@@ -33,7 +33,7 @@ struct SimulationConfig {
   // Reference-scale target (layout scale-target): a grid of dark circles on the wall.
   int target_cols = 5;
   int target_rows = 4;
-  double target_spacing_m = 0.01;   // centre to centre
+  double target_spacing_m = 0.01;  // centre to centre
   double target_diameter_m = 0.004;
 
   // Wall appearance.

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "pipescope/util/random.h"
+
 namespace pipescope {
 namespace {
 
@@ -12,14 +14,6 @@ constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kStepsPerFrame = 16;
 // Stops start and end with a smooth speed ramp of this length.
 constexpr double kStopRampS = 0.5;
-
-std::uint64_t Mix(std::uint64_t seed, std::uint64_t stream) {
-  // SplitMix64 finaliser: independent streams from one user seed.
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
 
 // Smooth 0..1 window that is 0 during each stop, ramping over kStopRampS at either side.
 double StopFactor(double t, const std::vector<double>& stop_starts, double duration) {
@@ -66,17 +60,17 @@ TrajectoryGenerator::TrajectoryGenerator(CentrelinePath path, MotionOptions opti
       options_(options),
       body_from_cam_(body_from_cam),
       table_dt_(1.0 / (options.fps * kStepsPerFrame)),
-      speed_noise_(Mix(options.seed, 1), 1.0),  // wavelength in seconds for the speed
-      offset_x_(Mix(options.seed, 2), options.wobble_wavelength_m),
-      offset_y_(Mix(options.seed, 3), options.wobble_wavelength_m),
-      roll_(Mix(options.seed, 4), 2.0 * options.wobble_wavelength_m),
-      pitch_(Mix(options.seed, 5), options.wobble_wavelength_m),
-      yaw_(Mix(options.seed, 6), options.wobble_wavelength_m),
-      heading_(Mix(options.seed, 7), 4.0 * options.wobble_wavelength_m) {
+      speed_noise_(MixSeed(options.seed, 1), 1.0),  // wavelength in seconds for the speed
+      offset_x_(MixSeed(options.seed, 2), options.wobble_wavelength_m),
+      offset_y_(MixSeed(options.seed, 3), options.wobble_wavelength_m),
+      roll_(MixSeed(options.seed, 4), 2.0 * options.wobble_wavelength_m),
+      pitch_(MixSeed(options.seed, 5), options.wobble_wavelength_m),
+      yaw_(MixSeed(options.seed, 6), options.wobble_wavelength_m),
+      heading_(MixSeed(options.seed, 7), 4.0 * options.wobble_wavelength_m) {
   const double duration = options.frames / options.fps;
   // Stops spread evenly over the run, each nudged by up to a quarter of its slot.
   std::vector<double> stop_starts;
-  std::mt19937_64 rng(Mix(options.seed, 8));
+  std::mt19937_64 rng(MixSeed(options.seed, 8));
   std::uniform_real_distribution<double> jitter(-0.25, 0.25);
   for (int i = 0; i < options.stop_count; ++i) {
     const double slot = duration / (options.stop_count + 1);

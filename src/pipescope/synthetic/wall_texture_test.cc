@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -454,38 +453,6 @@ TEST(WallTexture, SpecularityFollowsTheMaterial) {
   EXPECT_GT(means[0], 0.15);  // steel, duller where rusty
   EXPECT_GT(means[1], 0.4);   // glossy fiberglass
   EXPECT_LT(means[2], 0.08);  // matte concrete
-}
-
-TEST(WallTexture, PrintsTheCostPerCall) {
-  // Not an assertion: the renderer's budget is well under 150 ns a call. Coherent 160 x 120
-  // tiles at random places, the way a renderer walks the wall, at a 0.1 mm footprint.
-  const double c = Circumference(0.2);
-  for (const WallMaterial material : kMaterials) {
-    const WallTexture texture(Options(material));
-    std::mt19937 rng(9);
-    std::uniform_real_distribution<double> unit(0, 1);
-    double best_ns = 1e9;
-    float sink = 0;
-    for (int repeat = 0; repeat < 5; ++repeat) {
-      const auto start = std::chrono::steady_clock::now();
-      for (int tile = 0; tile < 8; ++tile) {
-        const double h0 = 6 * unit(rng);
-        const double s0 = c * unit(rng);
-        for (int row = 0; row < 120; ++row) {
-          for (int col = 0; col < 160; ++col) {
-            sink += texture.Albedo(0, h0 + 1e-4 * col, s0 + 1e-4 * row, c, 1e-4);
-          }
-        }
-      }
-      const double ns =
-          std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start)
-              .count() /
-          (8 * 120 * 160);
-      best_ns = std::min(best_ns, ns);
-    }
-    std::printf("[ timing ] %s: %.1f ns per Albedo() call at a 0.1 mm footprint (%g)\n",
-                WallMaterialName(material).c_str(), best_ns, sink > 0 ? 1.0 : 0.0);
-  }
 }
 
 }  // namespace

@@ -10,8 +10,12 @@ Verbosity g_verbosity = Verbosity::kNormal;
 
 void SetupLogging(Verbosity verbosity) {
   g_verbosity = verbosity;
-  auto logger = spdlog::stderr_color_mt("pipescope");
-  logger->set_pattern("%^[%l]%$ %v");
+  // Created once; a second call only changes the level.
+  auto logger = spdlog::get("pipescope");
+  if (!logger) {
+    logger = spdlog::stderr_color_mt("pipescope");
+    logger->set_pattern("%^[%l]%$ %v");
+  }
   switch (verbosity) {
     case Verbosity::kQuiet:
       logger->set_level(spdlog::level::warn);

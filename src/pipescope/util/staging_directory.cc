@@ -1,15 +1,36 @@
 #include "pipescope/util/staging_directory.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include "pipescope/util/error.h"
 
 namespace pipescope {
 namespace {
 
-std::filesystem::path Sibling(const std::filesystem::path& target, const std::string& tag) {
+std::filesystem::path Sibling(const std::filesystem::path& target, const std::string& tag,
+                              pid_t pid = getpid()) {
   const std::filesystem::path parent = target.has_parent_path() ? target.parent_path() : ".";
-  return parent / ("." + target.filename().string() + "." + tag + "-" + std::to_string(getpid()));
+  return parent / ("." + target.filename().string() + "." + tag + "-" + std::to_string(pid));
+}
+
+// Staging folders left by runs that were killed (their process is gone) are removed, so an
+// interrupted multi-gigabyte render does not stay on disk for ever.
+void RemoveAbandonedStaging(const std::filesystem::path& target) {
+  const std::filesystem::path parent = target.has_parent_path() ? target.parent_path() : ".";
+  const std::string prefix = "." + target.filename().string() + ".partial-";
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(parent, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const pid_t pid = static_cast<pid_t>(std::atol(name.c_str() + prefix.size()));
+    if (pid > 0 && kill(pid, 0) != 0 && errno == ESRCH) {
+      std::filesystem::remove_all(entry.path(), error);
+    }
+  }
 }
 
 }  // namespace
@@ -27,6 +48,7 @@ StagingDirectory::StagingDirectory(std::filesystem::path target, std::string fla
                        marker_file + "; refusing to replace it");
     }
   }
+  RemoveAbandonedStaging(target_);
   staging_ = Sibling(target_, "partial");
   std::error_code error;
   std::filesystem::remove_all(staging_, error);
@@ -48,7 +70,14 @@ void StagingDirectory::Commit() {
     previous = Sibling(target_, "old");
     std::filesystem::rename(target_, previous);
   }
-  std::filesystem::rename(staging_, target_);
+  try {
+    std::filesystem::rename(staging_, target_);
+  } catch (...) {
+    // Put the earlier output back rather than leave neither in place.
+    std::error_code ignored;
+    if (!previous.empty()) std::filesystem::rename(previous, target_, ignored);
+    throw;
+  }
   committed_ = true;
   if (!previous.empty()) std::filesystem::remove_all(previous);
 }

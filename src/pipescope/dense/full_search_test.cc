@@ -1,0 +1,179 @@
+#include "pipescope/dense/full_search.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "pipescope/dense/testing.h"
+#include "pipescope/util/testing.h"
+
+namespace pipescope {
+namespace {
+
+// Eq. 13-17 written out: one pass over the overlap per shift, in double.
+double NaiveCost(const cv::Mat& reference, const cv::Mat& next, FullSearchCost cost, int tx, int ty,
+                 double min_overlap_fraction) {
+  double n = 0, sad = 0, ssd = 0, sr = 0, si = 0;
+  for (int y = 0; y < reference.rows; ++y) {
+    for (int x = 0; x < reference.cols; ++x) {
+      if (x + tx < 0 || x + tx >= next.cols || y + ty < 0 || y + ty >= next.rows) continue;
+      const double r = reference.at<float>(y, x), i = next.at<float>(y + ty, x + tx);
+      n += 1;
+      sad += std::abs(r - i);
+      ssd += (r - i) * (r - i);
+      sr += r;
+      si += i;
+    }
+  }
+  if (n == 0 || n < min_overlap_fraction * reference.rows * reference.cols) {
+    return std::numeric_limits<double>::infinity();
+  }
+  if (cost == FullSearchCost::kSad) return sad / n;
+  if (cost == FullSearchCost::kSsd) return ssd / n;
+  const double mu_r = sr / n, mu_i = si / n;
+  double covariance = 0, var_r = 0, var_i = 0;
+  for (int y = 0; y < reference.rows; ++y) {
+    for (int x = 0; x < reference.cols; ++x) {
+      if (x + tx < 0 || x + tx >= next.cols || y + ty < 0 || y + ty >= next.rows) continue;
+      const double r = reference.at<float>(y, x) - mu_r;
+      const double i = next.at<float>(y + ty, x + tx) - mu_i;
+      covariance += r * i;
+      var_r += r * r;
+      var_i += i * i;
+    }
+  }
+  return -covariance / std::sqrt(var_r * var_i);
+}
+
+class FullSearchCostTest : public ::testing::TestWithParam<FullSearchCost> {};
+
+TEST_P(FullSearchCostTest, CostSurfaceEqualsNaiveReference) {
+  // Arbitrary range: a large offset and scale, as gain-corrected frames can have; the FFT path
+  // must not lose the small SSD at the match to cancellation.
+  RegistrationPair pair = MakeRegistrationPair({72, 52}, {3.0, -2.0}, 0.0, 2.0, 11);
+  pair.reference = pair.reference * 7.5 + 4000.0;
+  pair.next = pair.next * 7.5 + 4000.0;
+  FullSearchOptions options;
+  options.cost = GetParam();
+  options.max_shift_x_px = 9;
+  options.max_shift_y_px = 7;
+  options.min_overlap_fraction = 0.8;  // some shifts of the window fall below it
+  const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
+  ASSERT_EQ(result.cost_surface.rows, 15);
+  ASSERT_EQ(result.cost_surface.cols, 19);
+  int infinite = 0;
+  for (int ty = -7; ty <= 7; ++ty) {
+    for (int tx = -9; tx <= 9; ++tx) {
+      const double expected = NaiveCost(pair.reference, pair.next, options.cost, tx, ty, 0.8);
+      const double actual = result.cost_surface.at<double>(ty + 7, tx + 9);
+      if (std::isinf(expected)) {
+        EXPECT_TRUE(std::isinf(actual)) << tx << " " << ty;
+        ++infinite;
+        continue;
+      }
+      EXPECT_NEAR(actual, expected, 1e-4 * std::abs(expected)) << tx << " " << ty;
+    }
+  }
+  EXPECT_GT(infinite, 0);
+  EXPECT_EQ(result.shift, cv::Point(3, -2));
+  EXPECT_EQ(result.cost, result.cost_surface.at<double>(-2 + 7, 3 + 9));
+}
+
+TEST_P(FullSearchCostTest, FindsKnownIntegerShifts) {
+  FullSearchOptions options;
+  options.cost = GetParam();
+  for (const cv::Point shift : {cv::Point(0, 0), cv::Point(17, -4), cv::Point(-29, 11),
+                                cv::Point(5, 15), cv::Point(-1, -16)}) {
+    const RegistrationPair pair = MakeRegistrationPair({256, 192}, cv::Point2d(shift), 0.0, 2.0,
+                                                       static_cast<std::uint64_t>(shift.x + 100));
+    const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
+    EXPECT_EQ(result.shift, shift) << FullSearchCostName(GetParam());
+  }
+}
+
+TEST_P(FullSearchCostTest, CoarseToFineFindsLargeShift) {
+  FullSearchOptions options;
+  options.cost = GetParam();
+  options.max_shift_x_px = 48;
+  options.pyramid_levels = 2;
+  const RegistrationPair pair = MakeRegistrationPair({256, 192}, {-37.0, 9.0}, 0.0, 2.0, 5);
+  const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
+  EXPECT_EQ(result.shift, cv::Point(-37, 9));
+  // Only the last level's small window was evaluated at full resolution.
+  EXPECT_EQ(cv::countNonZero(result.cost_surface < std::numeric_limits<double>::infinity()), 25);
+}
+
+TEST_P(FullSearchCostTest, SubPixelShiftRoundsToNearest) {
+  FullSearchOptions options;
+  options.cost = GetParam();
+  const RegistrationPair pair = MakeRegistrationPair({160, 120}, {6.3, -2.8}, 0.0, 1.0, 3);
+  EXPECT_EQ(RegisterFullSearch(pair.reference, pair.next, options).shift, cv::Point(6, -3));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllCosts, FullSearchCostTest,
+                         ::testing::Values(FullSearchCost::kSad, FullSearchCost::kSsd,
+                                           FullSearchCost::kZncc),
+                         [](const ::testing::TestParamInfo<FullSearchCost>& info) {
+                           return std::string(FullSearchCostName(info.param));
+                         });
+
+TEST(FullSearch, StillPairIsExactlyZero) {
+  const RegistrationPair pair = MakeRegistrationPair({160, 120}, {0.0, 0.0}, 0.0, 1.0, 9);
+  for (FullSearchCost cost : {FullSearchCost::kSad, FullSearchCost::kSsd, FullSearchCost::kZncc}) {
+    FullSearchOptions options;
+    options.cost = cost;
+    EXPECT_EQ(RegisterFullSearch(pair.reference, pair.next, options).shift, cv::Point(0, 0));
+    // Identical images: the zero shift has cost exactly 0 for SAD.
+    if (cost == FullSearchCost::kSad) {
+      EXPECT_EQ(RegisterFullSearch(pair.reference, pair.reference, options).cost, 0.0);
+    }
+  }
+}
+
+TEST(FullSearch, ZnccIgnoresGainAndBias) {
+  const RegistrationPair pair =
+      MakeRegistrationPair({160, 120}, {-8.0, 5.0}, 0.0, 1.0, 4, /*gain=*/0.6, /*bias=*/40.0);
+  FullSearchOptions options;
+  options.cost = FullSearchCost::kZncc;
+  const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
+  EXPECT_EQ(result.shift, cv::Point(-8, 5));
+  EXPECT_LT(result.cost, -0.95);
+}
+
+TEST(FullSearch, ClampsWindowToImage) {
+  const RegistrationPair pair = MakeRegistrationPair({20, 10}, {1.0, 1.0}, 0.0, 1.0, 2);
+  FullSearchOptions options;
+  options.max_shift_x_px = 100;
+  options.max_shift_y_px = 100;
+  const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
+  EXPECT_EQ(result.max_shift_x_px, 19);
+  EXPECT_EQ(result.max_shift_y_px, 9);
+  EXPECT_EQ(result.cost_surface.size(), cv::Size(39, 19));
+  EXPECT_EQ(result.shift, cv::Point(1, 1));
+}
+
+TEST(FullSearch, AcceptsEightBitImages) {
+  const RegistrationPair pair = MakeRegistrationPair({96, 64}, {4.0, 2.0}, 0.0, 1.0, 8);
+  cv::Mat reference8, next8;
+  pair.reference.convertTo(reference8, CV_8U);
+  pair.next.convertTo(next8, CV_8U);
+  EXPECT_EQ(RegisterFullSearch(reference8, next8).shift, cv::Point(4, 2));
+}
+
+TEST(FullSearch, RejectsBadPairs) {
+  const cv::Mat a = cv::Mat::zeros(10, 12, CV_32F);
+  EXPECT_NE(InputErrorMessage([&] {
+              RegisterFullSearch(a, cv::Mat::zeros(10, 13, CV_32F));
+            }).find("12x10 and 13x10"),
+            std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] {
+              RegisterFullSearch(a, cv::Mat::zeros(10, 12, CV_32FC3));
+            }).find("one channel"),
+            std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { RegisterFullSearch(cv::Mat(), a); }).find("empty"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace pipescope
