@@ -5,10 +5,10 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numeric>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <regex>
@@ -417,15 +417,11 @@ CalibrationResult CalibrateKannalaBrandt(int width, int height, const Checkerboa
   std::vector<cv::Vec3d> rvecs, tvecs;
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS,
                                   options.max_iterations, 1e-12);
-  try {
-    cv::fisheye::calibrate(object_points, image_points, cv::Size(width, height), camera_matrix,
-                           distortion, rvecs, tvecs,
-                           cv::fisheye::CALIB_USE_INTRINSIC_GUESS |
-                               cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW,
-                           criteria);
-  } catch (const cv::Exception& error) {
-    throw InputError(std::string("kannala-brandt: cv::fisheye::calibrate failed: ") + error.what());
-  }
+  cv::fisheye::calibrate(object_points, image_points, cv::Size(width, height), camera_matrix,
+                         distortion, rvecs, tvecs,
+                         cv::fisheye::CALIB_USE_INTRINSIC_GUESS |
+                             cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW,
+                         criteria);
   const std::vector<double> params = {camera_matrix(0, 0), camera_matrix(1, 1), camera_matrix(0, 2),
                                       camera_matrix(1, 2), distortion[0],       distortion[1],
                                       distortion[2],       distortion[3]};
@@ -452,8 +448,9 @@ CalibrationResult CalibrateFisheyePoly(int width, int height, const Checkerboard
   }
   std::vector<double> params = {guess.k1, 0.0, 0.0, 0.0, 0.5 * (width - 1), 0.5 * (height - 1)};
   std::vector<std::array<double, 6>> poses;
-  for (const Eigen::Isometry3d& pose : guess.cam_from_board)
+  for (const Eigen::Isometry3d& pose : guess.cam_from_board) {
     poses.push_back(AngleAxisFromPose(pose));
+  }
   if (!RefineCalibration(CameraModelId::kFisheyePoly, board, views, {1, 2, 3},
                          options.max_iterations, &params, &poses) ||
       !RefineCalibration(CameraModelId::kFisheyePoly, board, views, {}, options.max_iterations,
@@ -601,13 +598,20 @@ CalibrationResult CalibrateCamera(CameraModelId model_id, int width, int height,
     }
   }
   CalibrationResult result = [&] {
-    switch (model_id) {
-      case CameraModelId::kPinholeRadtan:
-        return CalibratePinholeRadtan(width, height, board, views, options);
-      case CameraModelId::kKannalaBrandt:
-        return CalibrateKannalaBrandt(width, height, board, views, options);
-      case CameraModelId::kFisheyePoly:
-        return CalibrateFisheyePoly(width, height, board, views, options);
+    // OpenCV refuses degenerate view sets (too few views, ill-conditioned fits) by throwing;
+    // that is bad input, not a bug.
+    try {
+      switch (model_id) {
+        case CameraModelId::kPinholeRadtan:
+          return CalibratePinholeRadtan(width, height, board, views, options);
+        case CameraModelId::kKannalaBrandt:
+          return CalibrateKannalaBrandt(width, height, board, views, options);
+        case CameraModelId::kFisheyePoly:
+          return CalibrateFisheyePoly(width, height, board, views, options);
+      }
+    } catch (const cv::Exception& error) {
+      throw InputError(CameraModelName(model_id) + ": the OpenCV fit failed on these " +
+                       std::to_string(views.size()) + " views: " + error.what());
     }
     throw std::invalid_argument("invalid CameraModelId");
   }();

@@ -24,26 +24,9 @@ struct GainmaskFlags {
   double sigma_px = -1.0;
 };
 
-// Image files named on the command line, with folders expanded to their images.
-std::vector<std::filesystem::path> ExpandInputs(const std::vector<std::string>& inputs) {
-  std::vector<std::filesystem::path> files;
-  for (const std::string& input : inputs) {
-    if (std::filesystem::is_directory(input)) {
-      const std::vector<std::filesystem::path> folder = ListImageFiles(input);
-      if (folder.empty()) throw InputError("folder " + input + " holds no images");
-      files.insert(files.end(), folder.begin(), folder.end());
-    } else if (std::filesystem::is_regular_file(input)) {
-      files.emplace_back(input);
-    } else {
-      throw InputError("image not found: " + input);
-    }
-  }
-  return files;
-}
-
 int RunGainmask(const GainmaskFlags& flags) {
   std::vector<cv::Mat> images;
-  for (const std::filesystem::path& file : ExpandInputs(flags.inputs)) {
+  for (const std::filesystem::path& file : ExpandImageArguments(flags.inputs)) {
     cv::Mat image = cv::imread(file.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
     if (image.empty()) throw InputError("cannot read image " + file.string());
     if (!images.empty() && image.size() != images.front().size()) {

@@ -55,9 +55,9 @@ int RunSimulate(const SimulateFlags& flags) {
   spdlog::info("simulating {} ({} frames, {}x{}, {}) into {}", config.preset, config.frames,
                config.width, config.height, config.camera_model, flags.out);
   const SimulationSummary summary = SimulateDataset(config, flags.out);
-  spdlog::info("wrote {}: {} frames in {:.1f} s ({:.1f} frames/s), route {:.2f} m", flags.out,
-               summary.frames, summary.seconds, summary.frames / summary.seconds,
-               summary.route_length_m);
+  spdlog::info("wrote {}: {} frames in {:.1f} s ({:.1f} frames/s)", flags.out, summary.frames,
+               summary.seconds, summary.frames / summary.seconds);
+  if (summary.route_length_m > 0) spdlog::info("route {:.2f} m", summary.route_length_m);
   return kExitSuccess;
 }
 

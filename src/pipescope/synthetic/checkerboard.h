@@ -23,13 +23,13 @@ namespace pipescope {
 CheckerboardSpec CheckerboardFromConfig(const SimulationConfig& config);
 
 // config.frames board poses (cam_from_board; board frame as CheckerboardCorners), deterministic
-// for config.seed. View 0 is centred, views 1-8 aim at the image corners and edge midpoints,
-// the rest at random places; each board is tilted up to 50 degrees about a random axis, turned
-// up to 30 degrees in its plane and sized to span 30-55 % of the field of view (at most 110
-// degrees), then moved inwards and shrunk until the whole board with its white margin projects
-// inside the image and the field of view (MaxViewAngle), faces the camera and its corners are at
-// least 6 px apart. Wide fisheye-poly lenses therefore get boards that reach past 90 degrees at the
-// rim.
+// for config.seed. View 0 is centred, views 1-8 aim at the image corners and edge midpoints with
+// small boards (18-30 % of the field of view, capped at 110 degrees, across the board's
+// diagonal), the rest at random places with larger ones (45-80 %); each board is tilted up to 50
+// degrees about a random axis and turned up to 30 degrees in its plane. A board that leaves the
+// image or the field of view (MaxViewAngle) or is seen at more than 75 degrees incidence is aimed
+// further in; one whose corners come closer than 6 px is made larger. So the views reach the
+// image corners, and on a wide fisheye-poly the rim past 90 degrees.
 std::vector<Eigen::Isometry3d> GenerateCheckerboardPoses(const SimulationConfig& config,
                                                          const Camera& camera);
 

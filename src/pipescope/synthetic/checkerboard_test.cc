@@ -120,12 +120,6 @@ INSTANTIATE_TEST_SUITE_P(AllModels, CheckerboardCalibration,
                            return name;
                          });
 
-}  // namespace
-}  // namespace pipescope
-
-namespace pipescope {
-namespace {
-
 // Every generated view shows the whole board inside the image and the lens's field of view,
 // the views reach all four corners of the image, and a 190-degree lens gets corners past 90
 // degrees.
