@@ -12,27 +12,13 @@
 #include <utility>
 
 #include "pipescope/image/undistortion.h"
+#include "pipescope/io/image_source.h"  // ToFloatGrey: ratios do not care about its 16-bit scale
 #include "pipescope/util/error.h"
 
 namespace pipescope {
 namespace {
 
 // ---- Detection --------------------------------------------------------------------------------
-
-// A grey CV_32F copy of `image` in its own intensity units (colour averaged).
-cv::Mat GreyFloat(const cv::Mat& image) {
-  cv::Mat grey;
-  if (image.channels() == 3) {
-    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-  } else if (image.channels() == 4) {
-    cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
-  } else {
-    grey = image;
-  }
-  cv::Mat result;
-  grey.convertTo(result, CV_32F);
-  return result;
-}
 
 // The blob detector works on 8 bits with a fixed threshold ladder (50 to 220); scaling the
 // maximum to 255 without an offset keeps intensity ratios, which the contrast test relies on.
@@ -324,7 +310,7 @@ std::optional<std::vector<Eigen::Vector2d>> DetectCircleGrid(const cv::Mat& imag
                                                              int rows,
                                                              const CircleGridOptions& options) {
   if (image.empty() || cols < 2 || rows < 2) return std::nullopt;
-  const cv::Mat grey = GreyFloat(image);
+  const cv::Mat grey = ToFloatGrey(image);
   const cv::Ptr<cv::SimpleBlobDetector> detector = MakeDarkBlobDetector(grey.size(), options);
   std::vector<cv::KeyPoint> blobs;
   detector->detect(Grey8(grey), blobs);
@@ -367,7 +353,7 @@ std::optional<std::vector<Eigen::Vector2d>> UndistortedCircleCentroids(
   if (centres.size() != static_cast<std::size_t>(cols * rows)) {
     throw std::invalid_argument("UndistortedCircleCentroids: centre count does not match grid");
   }
-  const cv::Mat grey = GreyFloat(image);
+  const cv::Mat grey = ToFloatGrey(image);
   std::vector<Eigen::Vector2d> undistorted(centres.size());
   for (int index = 0; index < cols * rows; ++index) {
     const double spacing = NeighbourSpacing(centres, cols, rows, index);

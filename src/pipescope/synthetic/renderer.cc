@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core/utility.hpp>
+#include <utility>
 
 namespace pipescope {
 namespace {
@@ -29,19 +30,21 @@ Renderer::Renderer(const Camera& camera, const Scene& scene, const WallTexture& 
       }
     }
   }
-  // A pixel's angular size: the larger angle to its right and lower neighbours' bearings.
+  // A pixel's angular size: the largest angle to the bearing of a valid 4-neighbour, so pixels
+  // at the rim of a fisheye's image circle still get a footprint (and a filtered texture).
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
       const Eigen::Vector3d& b = bearings_[i];
       if (b.isZero()) continue;
       double angle = 0.0;
-      const int nx = x + 1 < width ? x + 1 : x - 1;
-      const int ny = y + 1 < height ? y + 1 : y - 1;
-      for (const std::size_t j :
-           {static_cast<std::size_t>(y) * width + nx, static_cast<std::size_t>(ny) * width + x}) {
-        if (!bearings_[j].isZero()) {
-          angle = std::max(angle, std::acos(std::clamp(b.dot(bearings_[j]), -1.0, 1.0)));
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int nx = x + dx;
+        const int ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+        const Eigen::Vector3d& neighbour = bearings_[static_cast<std::size_t>(ny) * width + nx];
+        if (!neighbour.isZero()) {
+          angle = std::max(angle, std::acos(std::clamp(b.dot(neighbour), -1.0, 1.0)));
         }
       }
       pixel_angle_[i] = static_cast<float>(angle);
