@@ -18,6 +18,10 @@ namespace {
 
 const Subcommand kSubcommands[] = {
     {"simulate", "Render a simulated pipe dataset with exact ground truth", SetupSimulateCommand},
+    {"odometry", "Visual odometry down a straight pipe (dense: 000 §4, 003 §2)",
+     SetupOdometryCommand},
+    {"mosaic", "Stitch a dataset's frames at known poses into an appearance map (000 §6.1)",
+     SetupMosaicCommand},
     {"calibrate", "Calibrate the camera from checkerboard images (001 §II)", SetupCalibrateCommand},
     {"gainmask", "Build the gain mask from white-card images (000 §3.2)", SetupGainmaskCommand},
     {"undistort", "Write a dataset's frames rectified to a perspective image",

@@ -23,5 +23,7 @@ SubcommandRunner SetupGainmaskCommand(CLI::App* command);
 SubcommandRunner SetupUndistortCommand(CLI::App* command);
 SubcommandRunner SetupRefscaleCommand(CLI::App* command);
 SubcommandRunner SetupCalibrateCommand(CLI::App* command);
+SubcommandRunner SetupOdometryCommand(CLI::App* command);
+SubcommandRunner SetupMosaicCommand(CLI::App* command);
 
 }  // namespace pipescope

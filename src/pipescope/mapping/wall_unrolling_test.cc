@@ -1,0 +1,234 @@
+// The unrolling maps are checked against closed forms (pinhole, OpenCV's fisheye projection),
+// and unrolled simulator frames against each other and against the simulator's wall texture.
+#include "pipescope/mapping/wall_unrolling.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <vector>
+
+#include "pipescope/mapping/mapping_testing.h"
+
+namespace pipescope {
+namespace {
+
+// A wall-looking camera (000 Fig. 3): image x along the pipe (world Z), optical axis towards
+// the wall at phi = 90 degrees (world +Y), image y along world X.
+Eigen::Isometry3d WallLookingPose(const Eigen::Vector3d& position) {
+  Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d rotation;
+  rotation.col(0) = Eigen::Vector3d::UnitZ();
+  rotation.col(1) = Eigen::Vector3d::UnitX();
+  rotation.col(2) = Eigen::Vector3d::UnitY();
+  world_from_cam.linear() = rotation;
+  world_from_cam.translation() = position;
+  return world_from_cam;
+}
+
+TEST(UnrolledGrid, WallPointFollowsThePipeFrame) {
+  const UnrolledGrid grid{0.2, 1.0, 0.1, 0.001, cv::Size(10, 10)};
+  const Eigen::Vector3d point = grid.WallPoint(3.0, 4.5);
+  const double phi = (0.1 + 4.5 * 0.001) / 0.2;
+  EXPECT_NEAR(point.x(), 0.2 * std::cos(phi), 1e-12);
+  EXPECT_NEAR(point.y(), 0.2 * std::sin(phi), 1e-12);
+  EXPECT_NEAR(point.z(), 1.003, 1e-12);
+  // s = r pi / 2 is the +Y wall, as the simulator's s_m for a pipe along +Z with reference +X.
+  const UnrolledGrid quarter{0.2, 0.0, 0.2 * M_PI / 2, 0.001, cv::Size(1, 1)};
+  EXPECT_NEAR((quarter.WallPoint(0, 0) - Eigen::Vector3d(0, 0.2, 0)).norm(), 0.0, 1e-12);
+}
+
+TEST(BuildUnrollingMaps, PinholeMatchesClosedForm) {
+  const double f = 500.0, cx = 319.5, cy = 239.5;
+  const Camera camera(CameraModelId::kPinholeRadtan, 640, 480, {f, f, cx, cy, 0, 0, 0, 0, 0});
+  const Eigen::Isometry3d world_from_cam = WallLookingPose({0.01, -0.02, 0.3});
+  const double radius = 0.2;
+  // The whole circumference around h = 0.3: the far half of the pipe lies behind the camera.
+  UnrolledGrid grid{radius, 0.2, 0.0, 0.002, cv::Size(100, 0)};
+  grid.size.height = static_cast<int>(2 * M_PI * radius / grid.pixel_m);
+  cv::Mat map_x, map_y;
+  BuildUnrollingMaps(camera, world_from_cam, grid, &map_x, &map_y);
+  ASSERT_EQ(map_x.size(), grid.size);
+  const Eigen::Isometry3d cam_from_world = world_from_cam.inverse();
+  int valid = 0, invalid = 0;
+  for (int v = 0; v < grid.size.height; ++v) {
+    for (int u = 0; u < grid.size.width; ++u) {
+      const double phi = v * grid.pixel_m / radius;
+      const Eigen::Vector3d point_world(radius * std::cos(phi), radius * std::sin(phi),
+                                        0.2 + u * grid.pixel_m);
+      const Eigen::Vector3d p = cam_from_world * point_world;
+      const double x = f * p.x() / p.z() + cx;
+      const double y = f * p.y() / p.z() + cy;
+      const bool visible = p.z() > 0 && x >= -0.5 && x <= 639.5 && y >= -0.5 && y <= 479.5;
+      if (visible) {
+        ++valid;
+        ASSERT_NEAR(map_x.at<float>(v, u), x, 1e-3) << u << " " << v;
+        ASSERT_NEAR(map_y.at<float>(v, u), y, 1e-3) << u << " " << v;
+      } else {
+        ++invalid;
+        ASSERT_EQ(map_x.at<float>(v, u), -1.0f) << u << " " << v;
+        ASSERT_EQ(map_y.at<float>(v, u), -1.0f) << u << " " << v;
+      }
+    }
+  }
+  EXPECT_GT(valid, 1000);
+  EXPECT_GT(invalid, 1000);
+}
+
+TEST(BuildUnrollingMaps, KannalaBrandtMatchesOpenCvFisheye) {
+  const std::vector<double> params = {300, 310, 330.2, 241.7, 0.02, -0.01, 0.003, -0.001};
+  const Camera camera(CameraModelId::kKannalaBrandt, 640, 480, params);
+  const Eigen::Isometry3d world_from_cam = WallLookingPose({-0.03, 0.05, 1.0});
+  const UnrolledGrid grid{0.15, 0.8, 0.05, 0.004, cv::Size(100, 60)};
+  cv::Mat map_x, map_y;
+  BuildUnrollingMaps(camera, world_from_cam, grid, &map_x, &map_y);
+
+  const Eigen::Isometry3d cam_from_world = world_from_cam.inverse();
+  std::vector<cv::Point3d> points;
+  std::vector<cv::Point> cells;
+  for (int v = 0; v < grid.size.height; v += 3) {
+    for (int u = 0; u < grid.size.width; u += 3) {
+      const Eigen::Vector3d p = cam_from_world * grid.WallPoint(u, v);
+      if (p.z() <= 0.05) continue;  // OpenCV's fisheye projects points behind the camera too
+      points.emplace_back(p.x(), p.y(), p.z());
+      cells.emplace_back(u, v);
+    }
+  }
+  ASSERT_GT(points.size(), 200u);
+  const cv::Matx33d k(params[0], 0, params[2], 0, params[1], params[3], 0, 0, 1);
+  const cv::Vec4d d(params[4], params[5], params[6], params[7]);
+  std::vector<cv::Point2d> pixels;
+  cv::fisheye::projectPoints(points, pixels, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, d);
+  int compared = 0;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const cv::Point2d& pixel = pixels[i];
+    const float x = map_x.at<float>(cells[i]);
+    const float y = map_y.at<float>(cells[i]);
+    const bool inside = pixel.x >= -0.5 && pixel.x <= 639.5 && pixel.y >= -0.5 && pixel.y <= 479.5;
+    // Only cells clear of the image border, where rounding cannot flip the decision.
+    const bool clear = pixel.x > 0 && pixel.x < 639 && pixel.y > 0 && pixel.y < 479;
+    if (inside && clear) {
+      ++compared;
+      EXPECT_NEAR(x, pixel.x, 2e-3);
+      EXPECT_NEAR(y, pixel.y, 2e-3);
+    } else if (!inside) {
+      EXPECT_EQ(x, -1.0f);
+    }
+  }
+  EXPECT_GT(compared, 100);
+}
+
+TEST(UnrollFrame, BilinearIsExactOnARampAndMasksTheBorder) {
+  cv::Mat frame(40, 50, CV_32F);
+  for (int y = 0; y < frame.rows; ++y) {
+    for (int x = 0; x < frame.cols; ++x) frame.at<float>(y, x) = 2.0f * x - 3.0f * y + 7.0f;
+  }
+  frame.at<float>(30, 10) = NAN;
+  const std::vector<cv::Point2f> samples = {
+      {3.25f, 4.5f},  {0.0f, 0.0f},  {49.0f, 39.0f}, {48.5f, 38.75f},  // inside
+      {-0.1f, 5.0f},  {5.0f, -0.2f}, {49.2f, 3.0f},  {3.0f, 39.1f},    // past the taps
+      {-1.0f, -1.0f},                                                  // invalid cell
+      {10.5f, 29.5f}, {9.5f, 30.5f},                                   // taps the NaN
+      {12.0f, 30.0f}};                                                 // next to it
+  cv::Mat map_x(1, samples.size(), CV_32F), map_y(1, samples.size(), CV_32F);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    map_x.at<float>(0, i) = samples[i].x;
+    map_y.at<float>(0, i) = samples[i].y;
+  }
+  cv::Mat valid;
+  const cv::Mat values = UnrollFrame(frame, map_x, map_y, &valid);
+  const std::vector<bool> expected_valid = {true,  true,  true,  true,  false, false,
+                                            false, false, false, false, false, true};
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    EXPECT_EQ(valid.at<uchar>(0, i) == 255, expected_valid[i]) << i;
+    if (expected_valid[i]) {
+      EXPECT_NEAR(values.at<float>(0, i), 2.0f * samples[i].x - 3.0f * samples[i].y + 7.0f, 1e-4)
+          << i;
+    } else {
+      EXPECT_EQ(values.at<float>(0, i), 0.0f) << i;
+    }
+  }
+}
+
+// Unrolling simulator frames at their true poses: each wall cell gets the same texture from
+// every frame that sees it, and that texture is the simulator's own.
+class UnrollSimulatedFrames : public testing::Test {
+ protected:
+  UnrollSimulatedFrames() : simulation_(SmallSteelConfig()), frames_(simulation_) {}
+
+  // A grid around the wall point frame `index` looks at, at about the image's own resolution.
+  UnrolledGrid GridAround(int index) const {
+    const double radius = simulation_.config().radius_m;
+    const double pixel = 1.0 / 3700.0;  // 1 / zeta of this camera (~3725 px/m)
+    const cv::Size size(256, 192);
+    const double h = simulation_.FramePose(index).translation().z();
+    return {radius, h - 0.5 * size.width * pixel, radius * M_PI / 2 - 0.5 * size.height * pixel,
+            pixel, size};
+  }
+
+  cv::Mat Unroll(int index, const UnrolledGrid& grid, const Eigen::Isometry3d& world_from_cam,
+                 cv::Mat* valid) const {
+    cv::Mat map_x, map_y;
+    BuildUnrollingMaps(simulation_.camera(), world_from_cam, grid, &map_x, &map_y);
+    return UnrollFrame(frames_.Frame(index), map_x, map_y, valid);
+  }
+
+  Simulation simulation_;
+  GainCorrectedFrames frames_;
+};
+
+TEST_F(UnrollSimulatedFrames, ConsecutiveFramesAgreeOnTheWall) {
+  const UnrolledGrid grid = GridAround(0);
+  const int other = 6;  // about 2 cm further along the pipe
+  cv::Mat valid_a, valid_b;
+  const cv::Mat a = Unroll(0, grid, simulation_.FramePose(0), &valid_a);
+  const cv::Mat b = Unroll(other, grid, simulation_.FramePose(other), &valid_b);
+  const cv::Mat both = valid_a & valid_b;
+  const double overlap = cv::countNonZero(both) / static_cast<double>(grid.size.area());
+  EXPECT_GT(overlap, 0.4);
+  EXPECT_LT(overlap, 0.95);  // the frames moved
+  EXPECT_GT(MaskedHighPassZncc(a, b, both), 0.95);
+
+  // Control: a pose off by 1.5 mm along the pipe (5 cells) no longer lines up (ZNCC of the
+  // fine texture, which a slow lighting residue cannot fake).
+  Eigen::Isometry3d wrong = simulation_.FramePose(other);
+  wrong.translation().z() += 0.0015;
+  cv::Mat valid_c;
+  const cv::Mat c = Unroll(other, grid, wrong, &valid_c);
+  const cv::Mat both_c = valid_a & valid_c;
+  EXPECT_LT(MaskedHighPassZncc(a, c, both_c), 0.5);
+}
+
+TEST_F(UnrollSimulatedFrames, MatchesTheWallTexture) {
+  const UnrolledGrid grid = GridAround(10);
+  cv::Mat valid;
+  const cv::Mat unrolled = Unroll(10, grid, simulation_.FramePose(10), &valid);
+  EXPECT_GT(cv::countNonZero(valid), grid.size.area() / 2);
+  // The simulator's albedo at each cell's (h, s), filtered to the cell size like a pixel.
+  const SimulationConfig& config = simulation_.config();
+  WallTextureOptions options;
+  options.material = WallMaterialFromName(config.material);
+  options.texture_contrast = config.texture_contrast;
+  options.seed = config.seed;
+  options.joint_spacing_m = config.joint_spacing_m;
+  options.marking_spacing_m = config.marking_spacing_m;
+  const WallTexture texture(options);
+  const double circumference = 2 * M_PI * grid.radius_m;
+  cv::Mat albedo(grid.size, CV_32F);
+  for (int v = 0; v < grid.size.height; ++v) {
+    for (int u = 0; u < grid.size.width; ++u) {
+      albedo.at<float>(v, u) =
+          texture.Albedo(0, grid.h0_m + u * grid.pixel_m, grid.s0_m + v * grid.pixel_m,
+                         circumference, grid.pixel_m);
+    }
+  }
+  EXPECT_GT(MaskedHighPassZncc(unrolled, albedo, valid), 0.9);
+  // Control: the texture one row (s) and three columns (h) off.
+  const cv::Rect inner(3, 1, grid.size.width - 6, grid.size.height - 2);
+  const double shifted =
+      MaskedHighPassZncc(unrolled(inner), albedo(inner + cv::Point(3, 1)), valid(inner));
+  EXPECT_LT(shifted, 0.5);
+}
+
+}  // namespace
+}  // namespace pipescope

@@ -1,0 +1,142 @@
+#include "pipescope/pipeline/dense_pair_registration.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "pipescope/util/error.h"
+
+namespace pipescope {
+namespace {
+
+struct MethodName {
+  DenseMethod method;
+  const char* name;
+};
+
+constexpr MethodName kMethodNames[] = {
+    {DenseMethod::kSad, "dense-sad"},           {DenseMethod::kSsd, "dense-ssd"},
+    {DenseMethod::kZncc, "dense-zncc"},         {DenseMethod::kLucasKanade, "dense-lk"},
+    {DenseMethod::kHybrid, "dense-hybrid"},     {DenseMethod::kPhase, "phase"},
+    {DenseMethod::kUnrolled, "dense-unrolled"}, {DenseMethod::kOpenCvPhase, "opencv-phase"},
+};
+
+PairMotion FullSearchMotion(FullSearchCost cost, const cv::Mat& reference, const cv::Mat& next,
+                            const FullSearchOptions& base) {
+  FullSearchOptions options = base;
+  options.cost = cost;
+  const FullSearchResult result = RegisterFullSearch(reference, next, options);
+  PairMotion motion;
+  motion.shift = result.shift;
+  if (!std::isfinite(result.cost)) {
+    motion.failure = "no shift in the search window has enough overlap";
+  } else if (std::abs(result.shift.x) == result.max_shift_x_px ||
+             std::abs(result.shift.y) == result.max_shift_y_px) {
+    // A minimum on the window's edge is most likely outside it (motion faster than the window).
+    motion.failure = "best shift on the search window's edge";
+  }
+  return motion;
+}
+
+}  // namespace
+
+const std::vector<std::string>& DenseMethodNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> result;
+    for (const MethodName& entry : kMethodNames) result.push_back(entry.name);
+    return result;
+  }();
+  return names;
+}
+
+std::string DenseMethodName(DenseMethod method) {
+  for (const MethodName& entry : kMethodNames) {
+    if (entry.method == method) return entry.name;
+  }
+  return "unknown";
+}
+
+DenseMethod ParseDenseMethod(const std::string& name) {
+  for (const MethodName& entry : kMethodNames) {
+    if (name == entry.name) return entry.method;
+  }
+  std::string valid;
+  for (const std::string& known : DenseMethodNames()) valid += (valid.empty() ? "" : ", ") + known;
+  throw InputError("--method: unknown dense method '" + name + "' (valid: " + valid + ")");
+}
+
+double OverlapCorrelation(const cv::Mat& reference, const cv::Mat& next, cv::Point2d shift) {
+  const int tx = static_cast<int>(std::lround(shift.x));
+  const int ty = static_cast<int>(std::lround(shift.y));
+  // Reference pixels x with x + t inside `next`.
+  const cv::Rect reference_area =
+      cv::Rect(-tx, -ty, next.cols, next.rows) & cv::Rect(0, 0, reference.cols, reference.rows);
+  if (reference_area.area() < 4) return 0.0;
+  const cv::Mat a = reference(reference_area);
+  const cv::Mat b = next(reference_area + cv::Point(tx, ty));
+  cv::Mat result;
+  cv::matchTemplate(a, b, result, cv::TM_CCOEFF_NORMED);
+  const double value = result.at<float>(0, 0);
+  return std::isfinite(value) ? value : 0.0;
+}
+
+PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, const cv::Mat& next,
+                              const PairRegistrationOptions& options, cv::Point2d predicted_shift) {
+  PairMotion motion;
+  switch (method) {
+    case DenseMethod::kSad:
+      motion = FullSearchMotion(FullSearchCost::kSad, reference, next, options.full_search);
+      break;
+    case DenseMethod::kSsd:
+      motion = FullSearchMotion(FullSearchCost::kSsd, reference, next, options.full_search);
+      break;
+    case DenseMethod::kZncc:
+      motion = FullSearchMotion(FullSearchCost::kZncc, reference, next, options.full_search);
+      break;
+    case DenseMethod::kLucasKanade: {
+      const LucasKanadeResult result =
+          RegisterLucasKanade(reference, next, options.lucas_kanade, predicted_shift);
+      motion.shift = result.shift;
+      if (!result.converged) motion.failure = "Gauss-Newton did not converge";
+      break;
+    }
+    case DenseMethod::kHybrid: {
+      HybridOptions hybrid = options.hybrid;
+      hybrid.full_search = options.full_search;
+      const HybridResult result = RegisterHybrid(reference, next, hybrid);
+      motion.shift = result.shift;
+      motion.still = result.still;
+      if (std::abs(result.integer_shift.x) == options.full_search.max_shift_x_px ||
+          std::abs(result.integer_shift.y) == options.full_search.max_shift_y_px) {
+        motion.failure = "best shift on the search window's edge";
+      }
+      break;
+    }
+    case DenseMethod::kPhase: {
+      const PhaseCorrelationResult result =
+          RegisterPhaseCorrelation(reference, next, options.phase);
+      motion.shift = result.shift;
+      motion.rotation_rad = result.rotation_rad;
+      break;
+    }
+    case DenseMethod::kOpenCvPhase: {
+      // What a user would write in an afternoon: OpenCV's phase correlation with a Hann window.
+      cv::Mat window;
+      cv::createHanningWindow(window, reference.size(), CV_32F);
+      cv::Mat reference_float, next_float;
+      reference.convertTo(reference_float, CV_32F);
+      next.convertTo(next_float, CV_32F);
+      motion.shift = cv::phaseCorrelate(reference_float, next_float, window);
+      break;
+    }
+    case DenseMethod::kUnrolled:
+      throw std::logic_error("RegisterPlanarPair: dense-unrolled registers unrolled frames");
+  }
+  motion.correlation = OverlapCorrelation(reference, next, motion.shift);
+  if (motion.failure.empty() && motion.correlation < options.min_correlation) {
+    motion.failure = "overlap correlation " + std::to_string(motion.correlation) + " below " +
+                     std::to_string(options.min_correlation);
+  }
+  return motion;
+}
+
+}  // namespace pipescope

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "pipescope/dense/full_search.h"
+#include "pipescope/dense/hybrid_registration.h"
+#include "pipescope/dense/lucas_kanade.h"
+#include "pipescope/dense/phase_correlation.h"
+
+namespace pipescope {
+
+// The dense odometry methods of `pipescope odometry` (GUIDE §5).
+enum class DenseMethod {
+  kSad,          // dense-sad: full search, SAD (000 Algorithm 1, eq. 13)
+  kSsd,          // dense-ssd: eq. 14
+  kZncc,         // dense-zncc: eq. 15-17
+  kLucasKanade,  // dense-lk: hierarchical Gauss-Newton (000 eq. 20-27)
+  kHybrid,       // dense-hybrid: full search, then Gauss-Newton at full resolution (000 §4.2.3)
+  kPhase,        // phase: phase correlation with rotation (003 eq. 5-7)
+  kUnrolled,     // dense-unrolled: registration on the unrolled wall (beyond the papers)
+  kOpenCvPhase,  // opencv-phase: cv::phaseCorrelate, the baseline of issue 5's benchmark
+};
+
+const std::vector<std::string>& DenseMethodNames();
+std::string DenseMethodName(DenseMethod method);
+// Throws InputError naming --method and the valid names for an unknown name.
+DenseMethod ParseDenseMethod(const std::string& name);
+
+struct PairRegistrationOptions {
+  FullSearchOptions full_search = [] {
+    FullSearchOptions options;
+    // Two pyramid levels keep SAD at the speed the pipelines need (docs/dense_registration.md);
+    // 0 searches exhaustively as 000 does.
+    options.pyramid_levels = 2;
+    return options;
+  }();
+  LucasKanadeOptions lucas_kanade;
+  HybridOptions hybrid;
+  PhaseCorrelationOptions phase = [] {
+    PhaseCorrelationOptions options;
+    options.estimate_rotation = true;  // 003 §2.3
+    return options;
+  }();
+  // A pair whose overlap correlates (ZNCC at the estimated shift) below this is a failed
+  // registration: too little texture, blur or a lighting artefact dominated.
+  double min_correlation = 0.3;
+};
+
+// The image motion between two prepared frames: next(R(rotation)(x - c) + c + shift) =
+// reference(x), c the image centre (dense/phase_correlation.h); rotation is 0 except for `phase`.
+struct PairMotion {
+  cv::Point2d shift;
+  double rotation_rad = 0.0;
+  double correlation = 0.0;  // ZNCC of the overlap at the rounded shift
+  bool still = false;        // dense-hybrid reported exactly no motion
+  std::string failure;       // why the pair cannot be used; empty when it can
+};
+
+// Registers a pair of prepared frames with one of the planar methods (every method but
+// kUnrolled). `predicted_shift` (the previous pair's) seeds dense-lk.
+PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, const cv::Mat& next,
+                              const PairRegistrationOptions& options, cv::Point2d predicted_shift);
+
+// ZNCC of reference(x) and next(x + shift) over their overlap (shift rounded to whole pixels);
+// 0 when the overlap is empty or flat.
+double OverlapCorrelation(const cv::Mat& reference, const cv::Mat& next, cv::Point2d shift);
+
+}  // namespace pipescope

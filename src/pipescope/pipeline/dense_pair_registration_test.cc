@@ -1,0 +1,111 @@
+#include "pipescope/pipeline/dense_pair_registration.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pipescope/dense/testing.h"
+#include "pipescope/util/error.h"
+#include "pipescope/util/testing.h"
+
+namespace pipescope {
+namespace {
+
+TEST(DenseMethod, NamesRoundTripAndUnknownNamesAreRejected) {
+  for (const std::string& name : DenseMethodNames()) {
+    EXPECT_EQ(DenseMethodName(ParseDenseMethod(name)), name);
+  }
+  EXPECT_EQ(ParseDenseMethod("dense-hybrid"), DenseMethod::kHybrid);
+  const std::string message = InputErrorMessage([] { ParseDenseMethod("dense-foo"); });
+  EXPECT_NE(message.find("--method"), std::string::npos);
+  EXPECT_NE(message.find("dense-zncc"), std::string::npos);
+}
+
+struct MethodCase {
+  DenseMethod method;
+  double tolerance_px;
+};
+
+class PlanarPairRegistration : public ::testing::TestWithParam<MethodCase> {};
+
+// A known sub-pixel shift at the quarter resolution 000 registers (160x120); the full search
+// finds the nearest whole shift (within 0.5 px per axis).
+TEST_P(PlanarPairRegistration, RecoversAKnownShift) {
+  const cv::Point2d truth(5.37, -1.62);
+  const RegistrationPair pair = MakeRegistrationPair({160, 120}, truth, 0.0, 1.0, 11);
+  const PairMotion motion =
+      RegisterPlanarPair(GetParam().method, pair.reference, pair.next, {}, {5.0, -1.0});
+  EXPECT_TRUE(motion.failure.empty()) << motion.failure;
+  EXPECT_LT(Distance(motion.shift, truth), GetParam().tolerance_px)
+      << motion.shift << " vs " << truth;
+  EXPECT_GT(motion.correlation, 0.8);
+  EXPECT_NEAR(motion.rotation_rad, 0.0, 2e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPlanarMethods, PlanarPairRegistration,
+                         ::testing::Values(MethodCase{DenseMethod::kSad, 0.71},
+                                           MethodCase{DenseMethod::kSsd, 0.71},
+                                           MethodCase{DenseMethod::kZncc, 0.71},
+                                           MethodCase{DenseMethod::kLucasKanade, 0.05},
+                                           MethodCase{DenseMethod::kHybrid, 0.05},
+                                           MethodCase{DenseMethod::kPhase, 0.05},
+                                           MethodCase{DenseMethod::kOpenCvPhase, 0.3}),
+                         [](const ::testing::TestParamInfo<MethodCase>& info) {
+                           std::string name = DenseMethodName(info.param.method);
+                           for (char& c : name) c = c == '-' ? '_' : c;
+                           return name;
+                         });
+
+TEST(PlanarPairRegistration, PhaseRecoversRotation) {
+  const double rotation = 2.5 * M_PI / 180.0;
+  const RegistrationPair pair = MakeRegistrationPair({256, 192}, {3.2, 1.1}, rotation, 1.0, 5);
+  const PairMotion motion =
+      RegisterPlanarPair(DenseMethod::kPhase, pair.reference, pair.next, {}, {0.0, 0.0});
+  EXPECT_NEAR(motion.rotation_rad, rotation, 0.1 * M_PI / 180.0);
+  EXPECT_LT(Distance(motion.shift, {3.2, 1.1}), 0.2);
+}
+
+TEST(PlanarPairRegistration, UnrelatedFramesFail) {
+  const RegistrationPair a = MakeRegistrationPair({160, 120}, {0, 0}, 0.0, 1.0, 1);
+  const RegistrationPair b = MakeRegistrationPair({160, 120}, {0, 0}, 0.0, 1.0, 2);
+  for (DenseMethod method :
+       {DenseMethod::kSad, DenseMethod::kHybrid, DenseMethod::kPhase, DenseMethod::kLucasKanade}) {
+    const PairMotion motion = RegisterPlanarPair(method, a.reference, b.next, {}, {0.0, 0.0});
+    EXPECT_FALSE(motion.failure.empty()) << DenseMethodName(method);
+    EXPECT_LT(motion.correlation, 0.3);
+  }
+}
+
+TEST(PlanarPairRegistration, TextureLessFramesFail) {
+  cv::Mat flat_a(120, 160, CV_32F), flat_b(120, 160, CV_32F);
+  cv::RNG rng(3);
+  rng.fill(flat_a, cv::RNG::NORMAL, 100.0, 1.0);
+  rng.fill(flat_b, cv::RNG::NORMAL, 100.0, 1.0);
+  const PairMotion motion =
+      RegisterPlanarPair(DenseMethod::kHybrid, flat_a, flat_b, {}, {0.0, 0.0});
+  EXPECT_FALSE(motion.failure.empty());
+}
+
+TEST(OverlapCorrelation, IsOneForExactlyShiftedContentAndMatchesANaiveZncc) {
+  cv::Mat big(140, 200, CV_32F);
+  cv::RNG rng(9);
+  rng.fill(big, cv::RNG::UNIFORM, 0.0, 255.0);
+  const cv::Mat reference = big(cv::Rect(10, 10, 160, 120)).clone();
+  const cv::Mat next = big(cv::Rect(7, 14, 160, 120)).clone();  // content moves by (3, -4)
+  EXPECT_NEAR(OverlapCorrelation(reference, next, {3.0, -4.0}), 1.0, 1e-5);
+  // Naive ZNCC at a wrong shift.
+  const cv::Point t(1, 0);
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0, n = 0;
+  for (int y = 0; y < 120; ++y) {
+    for (int x = 0; x + t.x < 160; ++x) {
+      const double a = reference.at<float>(y, x), b = next.at<float>(y, x + t.x);
+      sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b, ++n;
+    }
+  }
+  const double covariance = sab - sa * sb / n;
+  const double naive = covariance / std::sqrt((saa - sa * sa / n) * (sbb - sb * sb / n));
+  EXPECT_NEAR(OverlapCorrelation(reference, next, {1.0, 0.0}), naive, 1e-4);
+}
+
+}  // namespace
+}  // namespace pipescope

@@ -1,0 +1,255 @@
+#include "pipescope/pipeline/dense_vo.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "pipescope/image/gain_mask.h"
+#include "pipescope/image/undistortion.h"
+#include "pipescope/io/image_source.h"
+#include "pipescope/mapping/image_mosaic.h"
+#include "pipescope/mapping/unrolled_mosaic.h"
+#include "pipescope/pipeline/unrolled_wall_registration.h"
+#include "pipescope/util/error.h"
+#include "pipescope/util/progress.h"
+#include "pipescope/util/timer.h"
+
+namespace pipescope {
+namespace {
+
+std::string ManifestName(const DatasetManifest& manifest) {
+  return manifest.manifest_path.empty() ? std::string("dataset") : manifest.manifest_path.string();
+}
+
+double RequireReferenceScale(const DatasetManifest& manifest) {
+  if (!manifest.reference_scale_px_per_m || !(*manifest.reference_scale_px_per_m > 0.0)) {
+    throw InputError(ManifestName(manifest) +
+                     ": reference_scale_px_per_m is missing; the dense methods need the "
+                     "reference scale (000 §3.3): measure it with `pipescope refscale ... "
+                     "--write dataset.yaml`");
+  }
+  return *manifest.reference_scale_px_per_m;
+}
+
+StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_cam) {
+  StampedPose pose;
+  pose.timestamp = timestamp;
+  pose.rotation = Eigen::Quaterniond(world_from_cam.linear()).normalized();
+  pose.position = world_from_cam.translation();
+  return pose;
+}
+
+double SaturatedFraction(const cv::Mat& grey, double level) {
+  return static_cast<double>(cv::countNonZero(grey >= level)) / grey.total();
+}
+
+// Second pass of dense-unrolled: the frames on the unrolled wall at their estimated poses, one
+// every `spacing_cells` of travel (000's mosaics use frames 50 px apart).
+void BuildUnrolledMosaic(const DatasetManifest& manifest, const Camera& camera,
+                         const cv::Mat& gain_mask, const UnrolledWallRegistration& unrolled,
+                         double spacing_cells, DenseVoResult* result_in_out) {
+  const DenseVoResult& result = *result_in_out;
+  const UnrolledGrid& grid = unrolled.grid();
+  double h_min = INFINITY, h_max = -INFINITY;
+  std::map<std::size_t, Eigen::Isometry3d> poses;
+  for (std::size_t k = 0; k < result.frames.size(); ++k) {
+    const StampedPose& pose = result.trajectory[k];
+    Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
+    world_from_cam.linear() = pose.rotation.toRotationMatrix();
+    world_from_cam.translation() = pose.position;
+    poses[result.frames[k].index] = world_from_cam;
+    h_min = std::min(h_min, pose.position.z());
+    h_max = std::max(h_max, pose.position.z());
+  }
+  // The footprint reaches beyond the camera's h by up to the grid's length either way.
+  const double reach = grid.size.width * grid.pixel_m + std::abs(grid.h0_m);
+  UnrolledMosaic mosaic(camera, grid.radius_m, grid.pixel_m, h_min - reach, h_max + reach);
+  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
+  ProgressBar progress("mosaic", source->FrameCount());
+  double last_h = -INFINITY;
+  while (std::optional<Frame> frame = source->Next()) {
+    progress.Update(frame->index + 1);
+    const auto pose = poses.find(frame->index);
+    if (pose == poses.end()) continue;
+    const double h = pose->second.translation().z();
+    if (std::abs(h - last_h) < spacing_cells * grid.pixel_m) continue;
+    last_h = h;
+    mosaic.Add(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask),
+               pose->second);
+  }
+  progress.Finish();
+  // Only the band the camera saw: a wall-looking camera covers a fraction of the circumference.
+  const cv::Rect covered = mosaic.CoveredRegion();
+  result_in_out->mosaic = mosaic.Render(covered);
+  result_in_out->mosaic_pixel_m = grid.pixel_m;
+  result_in_out->mosaic_origin_m = {mosaic.grid().h0_m + covered.x * grid.pixel_m,
+                                    mosaic.grid().s0_m + covered.y * grid.pixel_m};
+}
+
+// 000 Algorithm 1 bounds the search by the maximum speed and the frame rate.
+void SetSearchWindowFromSpeed(const DatasetManifest& manifest, double zeta,
+                              DenseVoOptions* options) {
+  if (!(manifest.fps > 0.0)) {
+    throw InputError(ManifestName(manifest) +
+                     ": max_speed_m_s needs the frame rate (fps) to bound the search window");
+  }
+  const double per_frame_px =
+      *options->max_speed_m_s / manifest.fps * zeta / options->frames.downsample;
+  const int along = static_cast<int>(std::ceil(per_frame_px)) + 2;
+  const int across = std::max(2, along / 2);
+  const bool along_image_x = options->mount.axis_along_pipe.find('x') != std::string::npos;
+  options->registration.full_search.max_shift_x_px = along_image_x ? along : across;
+  options->registration.full_search.max_shift_y_px = along_image_x ? across : along;
+}
+
+}  // namespace
+
+DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
+                         const DenseVoOptions& requested_options) {
+  const double zeta = RequireReferenceScale(manifest);
+  DenseVoOptions options = requested_options;
+  if (options.max_speed_m_s) SetSearchWindowFromSpeed(manifest, zeta, &options);
+  const bool on_unrolled_wall = options.method == DenseMethod::kUnrolled;
+  const double radius =
+      on_unrolled_wall ? RequireInnerRadius(manifest) : manifest.inner_radius_m.value_or(0.0);
+  // 000 §3.3: zeta is the image scale of the wall the camera faces, f / distance.
+  const double wall_distance = radius > 0.0 ? CentralFocalLengthPx(camera) / zeta : 0.0;
+  if (radius > 0.0 && wall_distance >= 2.0 * radius) {
+    throw InputError(ManifestName(manifest) + ": reference_scale_px_per_m " + std::to_string(zeta) +
+                     " puts the wall " + std::to_string(wall_distance) +
+                     " m from the camera, beyond the pipe's diameter");
+  }
+  const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
+  const cv::Mat gain_mask =
+      manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
+  const DenseFramePreparation preparation(camera, gain_mask, options.frames);
+  const double zeta_prepared = preparation.ScaleAtPreparedResolution(zeta);
+  const cv::Point2d principal_point = preparation.PreparedPrincipalPoint();
+  const cv::Size prepared_size = preparation.PreparedSize();
+  // The band of the prepared frame the planar methods register.
+  const bool along_image_x = options.mount.axis_along_pipe.find('x') != std::string::npos;
+  cv::Rect band(cv::Point(0, 0), prepared_size);
+  if (options.registration_band < 1.0) {
+    if (!(options.registration_band > 0.0)) {
+      throw InputError("registration_band: must be in (0, 1], got " +
+                       std::to_string(options.registration_band));
+    }
+    const int across = along_image_x ? prepared_size.height : prepared_size.width;
+    const int kept =
+        std::max(16, static_cast<int>(std::lround(options.registration_band * across)));
+    const double centre = along_image_x ? principal_point.y : principal_point.x;
+    const int first = std::clamp(static_cast<int>(std::lround(centre - 0.5 * kept)), 0,
+                                 std::max(0, across - kept));
+    band = along_image_x ? cv::Rect(0, first, prepared_size.width, std::min(kept, across))
+                         : cv::Rect(first, 0, std::min(kept, across), prepared_size.height);
+  }
+  const cv::Point2d band_principal_point = principal_point - cv::Point2d(band.tl());
+  const cv::Point2d band_centre(0.5 * (band.width - 1), 0.5 * (band.height - 1));
+  std::unique_ptr<UnrolledWallRegistration> unrolled;
+  if (on_unrolled_wall) {
+    // Cells of the prepared frames' pixel footprint on the wall the camera faces.
+    unrolled = std::make_unique<UnrolledWallRegistration>(
+        camera, start, radius, options.frames.downsample / zeta, options.frames.downsample,
+        options.unrolled_margin_cells);
+  }
+
+  DenseVoResult result;
+  ImageMosaic image_mosaic(options.mosaic_spacing_px);
+  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
+  ProgressBar progress(DenseMethodName(options.method), source->FrameCount());
+  cv::Mat previous;
+  double previous_timestamp = 0.0;
+  Eigen::Isometry3d pose = start;
+  double travel = 0.0, roll = 0.0;  // dense-unrolled's state
+  cv::Point2d content_offset(0.0, 0.0);
+  std::optional<PairMotion> last_good;
+  double last_good_dt = 0.0;
+  Timer timer;
+  while (std::optional<Frame> frame = source->Next()) {
+    cv::Mat current, mosaic_frame;
+    const double saturated = SaturatedFraction(frame->grey, options.frames.saturation_level);
+    if (on_unrolled_wall) {
+      current =
+          unrolled->Unroll(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask));
+    } else {
+      mosaic_frame = preparation.Prepare(frame->grey).image;
+      current = mosaic_frame(band);
+    }
+    const bool gauss_newton = on_unrolled_wall || options.method == DenseMethod::kLucasKanade ||
+                              options.method == DenseMethod::kHybrid;
+    if (gauss_newton && options.presmooth_sigma_px > 0.0) {
+      cv::GaussianBlur(current, current, cv::Size(), options.presmooth_sigma_px);
+    }
+    DenseFrameRecord record;
+    record.index = frame->index;
+    record.timestamp = frame->timestamp;
+    record.name = frame->name;
+    if (!previous.empty()) {
+      const double dt = frame->timestamp - previous_timestamp;
+      PairMotion motion;
+      if (saturated > options.max_saturated_fraction) {
+        motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
+                         " % of the pixels saturated";
+      } else {
+        // dense-unrolled registers the unrolled pair with the hybrid method.
+        const DenseMethod registration_method =
+            on_unrolled_wall ? DenseMethod::kHybrid : options.method;
+        const cv::Point2d predicted = last_good && last_good_dt > 0.0
+                                          ? last_good->shift * (dt / last_good_dt)
+                                          : cv::Point2d(0.0, 0.0);
+        motion = RegisterPlanarPair(registration_method, previous, current, options.registration,
+                                    predicted);
+      }
+      if (motion.failure.empty()) {
+        last_good = motion;
+        last_good_dt = dt;
+      } else {
+        // Constant velocity (issue 5): the last good pair's motion, scaled to this time step.
+        ++result.failed_pairs;
+        const double ratio = last_good && last_good_dt > 0.0 ? dt / last_good_dt : 0.0;
+        motion.shift = last_good ? last_good->shift * ratio : cv::Point2d(0.0, 0.0);
+        motion.rotation_rad = last_good ? last_good->rotation_rad * ratio : 0.0;
+      }
+      record.shift = motion.shift;
+      record.rotation_rad = motion.rotation_rad;
+      record.correlation = motion.correlation;
+      record.still = motion.still;
+      record.failure = motion.failure;
+      if (on_unrolled_wall) {
+        travel += unrolled->TravelFromShift(motion.shift);
+        roll += unrolled->RollFromShift(motion.shift);
+        pose = PipeAxisMotion(start, travel, roll);
+      } else {
+        pose = ApplyImageMotion(pose, motion.shift, motion.rotation_rad, zeta_prepared,
+                                band_principal_point, band_centre);
+      }
+      content_offset -= motion.shift;
+    }
+    if (options.build_mosaic && !on_unrolled_wall) image_mosaic.Add(mosaic_frame, content_offset);
+    result.trajectory.push_back(ToStampedPose(frame->timestamp, pose));
+    result.frames.push_back(std::move(record));
+    previous = current;
+    previous_timestamp = frame->timestamp;
+    progress.Update(frame->index + 1);
+  }
+  progress.Finish();
+  result.registration_seconds = timer.ElapsedSeconds();
+  result.skipped_frames = source->skipped_frames();
+  if (result.frames.empty()) {
+    throw InputError(ManifestName(manifest) + ": no readable frames");
+  }
+  if (options.build_mosaic) {
+    if (on_unrolled_wall) {
+      BuildUnrolledMosaic(manifest, camera, gain_mask, *unrolled, options.mosaic_spacing_px,
+                          &result);
+    } else {
+      result.mosaic = image_mosaic.Render();
+    }
+  }
+  return result;
+}
+
+}  // namespace pipescope

@@ -1,0 +1,87 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/io/dataset.h"
+#include "pipescope/io/trajectory.h"
+#include "pipescope/pipeline/dense_frame_preparation.h"
+#include "pipescope/pipeline/dense_motion_model.h"
+#include "pipescope/pipeline/dense_pair_registration.h"
+
+namespace pipescope {
+
+// Dense monocular visual odometry for straight pipes (000 §4, 003 §2): every frame is
+// registered to the one before, the image motion is turned into metres with the reference scale
+// and integrated from the start pose (000 eq. 18-19).
+struct DenseVoOptions {
+  DenseMethod method = DenseMethod::kHybrid;
+  DenseFrameOptions frames;
+  PairRegistrationOptions registration;
+  // When set, the full-search window is the farthest the wall moves in one frame at this speed
+  // (000 Algorithm 1's x_MAX along the pipe, half of it across), replacing the window of
+  // `registration`.
+  std::optional<double> max_speed_m_s;
+  CameraMount mount;
+  // The planar methods register only this fraction of the prepared frame across the pipe (rows
+  // for a camera whose image x runs along the pipe), centred on the principal point. A
+  // wall-looking camera sees the curved wall farther away towards the image's edges across the
+  // pipe (000 §6.2.3), so those rows move at a different rate from the centre's, and a
+  // translational fit over all rows is biased by the mean of that variation; the bias shrinks
+  // with the square of the band. 1 = the whole frame, as 000.
+  double registration_band = 0.5;
+  // Gaussian smoothing of the registered frames (standard deviation, prepared pixels) for the
+  // Gauss-Newton methods (dense-lk, dense-hybrid, dense-unrolled). Off by default: it trades
+  // fine texture for what is left of the lighting pattern after gain correction, which stays put
+  // in the image and pulls the shift towards zero (measured: -0.2 % of the distance on
+  // dense-unrolled at 1 px, docs/dense_vo.md).
+  double presmooth_sigma_px = 0.0;
+  // A frame with more saturated pixels than this is not registered (000 Fig. 12: highlights
+  // pull the registration to zero motion); its motion is predicted.
+  double max_saturated_fraction = 0.2;
+  // 000's image-space mosaic uses frames at least this far apart (appendix).
+  double mosaic_spacing_px = 50.0;
+  bool build_mosaic = true;
+  // dense-unrolled: margin of the unrolled grid inside the camera's footprint, in cells.
+  int unrolled_margin_cells = 2;
+};
+
+// What happened to one frame.
+struct DenseFrameRecord {
+  std::size_t index = 0;
+  double timestamp = 0.0;
+  std::string name;
+  cv::Point2d shift;          // the image (or unrolled-grid) shift from the previous frame
+  double rotation_rad = 0.0;  // phase only
+  double correlation = 0.0;   // overlap ZNCC after registration
+  bool still = false;
+  // Why the registration failed and the motion was predicted at constant velocity; empty when
+  // it did not (and for the first frame).
+  std::string failure;
+};
+
+struct DenseVoResult {
+  Trajectory trajectory;  // world_from_cam of every frame, pipe frame (axis Z)
+  std::vector<DenseFrameRecord> frames;
+  std::vector<std::string> skipped_frames;  // unreadable
+  int failed_pairs = 0;
+  // The appearance map (CV_32F, NaN where no frame contributed): image space for the planar
+  // methods (000 Fig. 14/16), the unrolled wall (h along columns, s = r phi along rows) for
+  // dense-unrolled. Empty when options.build_mosaic is false.
+  cv::Mat mosaic;
+  double mosaic_pixel_m = 0.0;  // dense-unrolled: the unrolled mosaic's cell size
+  // dense-unrolled: (h, s) of the mosaic's cell (0, 0), metres.
+  cv::Point2d mosaic_origin_m;
+  double registration_seconds = 0.0;
+};
+
+// Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is
+// required, and the pipe radius for dense-unrolled; the dataset's gain mask is applied when it
+// names one. Throws InputError naming the missing key or bad option.
+DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
+                         const DenseVoOptions& options);
+
+}  // namespace pipescope
