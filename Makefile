@@ -27,11 +27,11 @@ test: build
 # shipped estimate of a 2 m out-and-back run against its ground truth.
 demo: build
 	@mkdir -p $(DEMO_OUT)
-	./$(BUILD_DIR)/pipescope simulate --preset steel-16in --frames 60 --out $(DEMO_OUT)/steel-16in
-	./$(BUILD_DIR)/pipescope evaluate --gt data/demo/groundtruth.tum --est data/demo/estimate.tum \
-	  --json $(DEMO_OUT)/metrics.json
+	./$(BUILD_DIR)/pipescope simulate --preset steel-16in --frames 240 --out $(DEMO_OUT)/steel-16in
+	./$(BUILD_DIR)/pipescope odometry $(DEMO_OUT)/steel-16in --method dense-unrolled \
+	  --out $(DEMO_OUT)/run
 	@echo "Results: simulated dataset in $(DEMO_OUT)/steel-16in (images/, groundtruth.tum, dataset.yaml)"
-	@echo "         trajectory metrics in $(DEMO_OUT)/metrics.json"
+	@echo "         odometry run in $(DEMO_OUT)/run (trajectory.tum, mosaic.png, run.json, metrics.json)"
 
 bench: build
 	@bash bench/run_kernels.sh $(BUILD_DIR)

@@ -1,0 +1,94 @@
+// End-to-end tests of `pipescope odometry` with the dense methods (000 §4, 003 §2): a short
+// simulated pass gives a run directory whose files agree with each other and the ground truth;
+// bad input exits 2 naming the culprit and leaves no run directory behind.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "pipescope/cli/cli_testing.h"
+#include "pipescope/util/atomic_file.h"
+#include "pipescope/util/testing.h"
+
+namespace pipescope {
+namespace {
+
+class OdometryCli : public testing::Test {
+ protected:
+  // 000's 16-inch pipe at 320x240 registered at 160x120 (downsample 2): 30 frames, 80 mm.
+  static void SetUpTestSuite() {
+    dir_ = new std::filesystem::path(MakeTestDirectory("odometry_cli"));
+    const CommandResult simulate = RunPipescope(
+        "simulate --preset steel-16in --out " + Path("ds") +
+        " --frames 30 --set width=320 --set height=240 --set white_card_count=2"
+        " --set out_and_back=false -q");
+    ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+    WriteTextFileAtomically(*dir_ / "config.yaml", "downsample: 2\n");
+  }
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*dir_);
+    delete dir_;
+  }
+  static std::string Path(const std::string& name) { return (*dir_ / name).string(); }
+
+  static std::filesystem::path* dir_;
+};
+
+std::filesystem::path* OdometryCli::dir_ = nullptr;
+
+TEST_F(OdometryCli, WritesTheRunDirectory) {
+  for (const std::string method : {"dense-hybrid", "dense-unrolled"}) {
+    const std::string run = Path("run-" + method);
+    const CommandResult result =
+        RunPipescope("odometry " + Path("ds") + " --method " + method + " --out " + run +
+                     " --config " + Path("config.yaml") + " -q");
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    const nlohmann::json metrics = nlohmann::json::parse(ReadTextFile(run + "/metrics.json"));
+    EXPECT_EQ(metrics["frames_est"], 30);
+    EXPECT_EQ(metrics["frames_matched"], 30);
+    // A sanity bound: 80 mm of travel with the preset's drift and wobble (dense_vo_test has the
+    // accuracy tests).
+    EXPECT_LT(metrics["distance_error_pct"].get<double>(), 5.0) << method;
+    const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
+    EXPECT_EQ(report["method"], method);
+    EXPECT_EQ(report["options"]["downsample"], 2);
+    EXPECT_EQ(report["counts"]["frames_localised"], 30);
+    EXPECT_TRUE(report["failed_frames"].is_array());
+    const cv::Mat mosaic = cv::imread(run + "/mosaic.png", cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(mosaic.empty()) << method;
+    EXPECT_EQ(mosaic.type(), CV_8U);
+    EXPECT_TRUE(std::filesystem::exists(run + "/trajectory.tum"));
+  }
+}
+
+TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {
+  struct Case {
+    std::string arguments;
+    std::string culprit;
+  };
+  WriteTextFileAtomically(*dir_ / "typo.yaml", "downsampel: 2\n");
+  WriteTextFileAtomically(*dir_ / "range.yaml", "registration_band: 1.5\n");
+  const std::string ds = Path("ds");
+  const std::vector<Case> cases = {
+      {ds + " --method dense-foo --out " + Path("bad1"), "--method"},
+      {ds + " --method dense-sad --out " + Path("bad2") + " --config " + Path("typo.yaml"),
+       "downsampel"},
+      {ds + " --method dense-sad --out " + Path("bad3") + " --config " + Path("range.yaml"),
+       "registration_band"},
+      {ds + " --method dense-sad --out " + Path("bad4") + " --config " + Path("missing.yaml"),
+       "missing.yaml"},
+      {Path("nowhere") + " --method dense-sad --out " + Path("bad5"), "nowhere"},
+  };
+  for (const Case& c : cases) {
+    const CommandResult result = RunPipescope("odometry " + c.arguments + " -q");
+    EXPECT_EQ(result.exit_status, 2) << c.arguments << "\n" << result.output;
+    EXPECT_NE(result.output.find(c.culprit), std::string::npos) << result.output;
+  }
+  for (const char* run : {"bad1", "bad2", "bad3", "bad4", "bad5"}) {
+    EXPECT_FALSE(std::filesystem::exists(Path(run))) << run;
+  }
+}
+
+}  // namespace
+}  // namespace pipescope
