@@ -38,20 +38,15 @@ bool UnrolledMosaic::Footprint(const Eigen::Isometry3d& world_from_cam, cv::Rang
     Eigen::Vector3d bearing;
     if (!camera_.Unproject({x, y}, &bearing)) return;
     const Eigen::Vector3d direction = world_from_cam.linear() * bearing;
-    const double a = direction.head<2>().squaredNorm();
-    const double b = 2.0 * centre.head<2>().dot(direction.head<2>());
-    const double c = centre.head<2>().squaredNorm() - radius * radius;
-    const double discriminant = b * b - 4.0 * a * c;
-    if (a < 1e-12 || discriminant < 0) {
+    const std::optional<double> t = RayToWall(centre, direction, radius);
+    if (!t) {
       // Along the axis: reaches the end of the range without meeting the wall.
       const double h = direction.z() >= 0 ? h_hi : h_lo;
       min_h = std::min(min_h, h);
       max_h = std::max(max_h, h);
       return;
     }
-    const double t = (-b + std::sqrt(discriminant)) / (2.0 * a);
-    if (t <= 0) return;
-    const Eigen::Vector3d hit = centre + t * direction;
+    const Eigen::Vector3d hit = centre + *t * direction;
     const double h = std::clamp(hit.z(), h_lo, h_hi);
     min_h = std::min(min_h, h);
     max_h = std::max(max_h, h);

@@ -12,6 +12,19 @@ Eigen::Vector3d UnrolledGrid::WallPoint(double u, double v) const {
   return {radius_m * std::cos(phi), radius_m * std::sin(phi), h0_m + u * pixel_m};
 }
 
+std::optional<double> RayToWall(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                                double radius_m) {
+  const double a = direction.head<2>().squaredNorm();
+  if (a < 1e-12) return std::nullopt;
+  const double b = origin.head<2>().dot(direction.head<2>());
+  const double c = origin.head<2>().squaredNorm() - radius_m * radius_m;  // < 0 inside
+  const double discriminant = b * b - a * c;
+  if (discriminant < 0.0) return std::nullopt;
+  const double t = (-b + std::sqrt(discriminant)) / a;
+  if (t <= 0.0) return std::nullopt;
+  return t;
+}
+
 void BuildUnrollingMaps(const Camera& camera, const Eigen::Isometry3d& world_from_cam,
                         const UnrolledGrid& grid, cv::Mat* map_x, cv::Mat* map_y) {
   CV_Assert(grid.radius_m > 0 && grid.pixel_m > 0 && grid.size.width >= 0 && grid.size.height >= 0);

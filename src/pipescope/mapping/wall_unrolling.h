@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "pipescope/camera/camera.h"
 
@@ -29,6 +30,12 @@ struct UnrolledGrid {
 // the point is behind the camera, beyond the model's valid angle or off the image. A camera
 // inside the pipe sees every wall point it points at (the interior of a cylinder is convex), so
 // there is no occlusion test.
+// Where a ray from inside the pipe (origin within the radius) leaves it through the wall: the
+// distance t > 0 along `direction` with |(origin + t direction).xy| = radius_m. Unset for a ray
+// along the axis, which never meets the wall.
+std::optional<double> RayToWall(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                                double radius_m);
+
 void BuildUnrollingMaps(const Camera& camera, const Eigen::Isometry3d& world_from_cam,
                         const UnrolledGrid& grid, cv::Mat* map_x, cv::Mat* map_y);
 

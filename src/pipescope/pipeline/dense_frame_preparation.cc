@@ -34,23 +34,19 @@ cv::Point2d DenseFramePreparation::PreparedPrincipalPoint() const {
   return {(full.x + 0.5) / factor - 0.5, (full.y + 0.5) / factor - 0.5};
 }
 
-PreparedFrame DenseFramePreparation::Prepare(const cv::Mat& grey) const {
-  PreparedFrame prepared;
-  prepared.saturated_fraction =
-      static_cast<double>(cv::countNonZero(grey >= options_.saturation_level)) / grey.total();
+cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor) {
+  if (factor == 1) return image;
+  // INTER_AREA with an integer factor is the mean of each factor x factor block.
+  const cv::Size size(image.cols / factor, image.rows / factor);
+  cv::Mat downsampled;
+  cv::resize(image(cv::Rect(0, 0, size.width * factor, size.height * factor)), downsampled, size, 0,
+             0, cv::INTER_AREA);
+  return downsampled;
+}
+
+cv::Mat DenseFramePreparation::Prepare(const cv::Mat& grey) const {
   const cv::Mat corrected = gain_mask_.empty() ? grey : ApplyGainMask(grey, gain_mask_);
-  const cv::Mat rectified = undistorter_.Apply(corrected);
-  if (options_.downsample == 1) {
-    prepared.image = rectified;
-  } else {
-    // INTER_AREA with an integer factor is the mean of each factor x factor block, so a shift
-    // scales by exactly 1 / factor.
-    const cv::Size size = PreparedSize();
-    const cv::Rect whole_blocks(0, 0, size.width * options_.downsample,
-                                size.height * options_.downsample);
-    cv::resize(rectified(whole_blocks), prepared.image, size, 0, 0, cv::INTER_AREA);
-  }
-  return prepared;
+  return DownsampleByBlockMean(undistorter_.Apply(corrected), options_.downsample);
 }
 
 }  // namespace pipescope

@@ -12,14 +12,12 @@ namespace pipescope {
 // registers quarter-resolution frames: 256x192 for pipe 1, 160x120 for pipe 2).
 struct DenseFrameOptions {
   int downsample = 4;  // 1 = full resolution
-  // Pixels at or above this 8-bit grey level count as saturated (specular highlights, 000 Fig. 12).
-  double saturation_level = 250.0;
 };
 
-struct PreparedFrame {
-  cv::Mat image;                  // CV_32F, gain-corrected, undistorted, downsampled
-  double saturated_fraction = 0;  // of the raw frame's pixels
-};
+// The mean of each factor x factor block (the incomplete last row and column of blocks are
+// dropped): a full-resolution pixel x lands on (x + 0.5) / factor - 0.5, so a shift scales by
+// exactly 1 / factor. `factor` 1 returns `image` itself.
+cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor);
 
 class DenseFramePreparation {
  public:
@@ -28,8 +26,9 @@ class DenseFramePreparation {
   DenseFramePreparation(const Camera& camera, const cv::Mat& gain_mask,
                         const DenseFrameOptions& options);
 
-  // `grey`: CV_32F in 8-bit grey levels, the camera's size.
-  PreparedFrame Prepare(const cv::Mat& grey) const;
+  // `grey`: CV_32F in 8-bit grey levels, the camera's size. Returns the gain-corrected,
+  // undistorted, downsampled frame (CV_32F).
+  cv::Mat Prepare(const cv::Mat& grey) const;
 
   // The reference scale at the prepared frames' resolution: zeta / downsample.
   double ScaleAtPreparedResolution(double zeta_px_per_m) const {

@@ -156,6 +156,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         options.unrolled_margin_cells);
   }
 
+  const bool presmooth = options.presmooth_sigma_px > 0.0 &&
+                         (on_unrolled_wall || options.method == DenseMethod::kLucasKanade ||
+                          options.method == DenseMethod::kHybrid);
   DenseVoResult result;
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
@@ -170,17 +173,15 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   Timer timer;
   while (std::optional<Frame> frame = source->Next()) {
     cv::Mat current, mosaic_frame;
-    const double saturated = SaturatedFraction(frame->grey, options.frames.saturation_level);
+    const double saturated = SaturatedFraction(frame->grey, options.saturation_level);
     if (on_unrolled_wall) {
       current =
           unrolled->Unroll(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask));
     } else {
-      mosaic_frame = preparation.Prepare(frame->grey).image;
+      mosaic_frame = preparation.Prepare(frame->grey);
       current = mosaic_frame(band);
     }
-    const bool gauss_newton = on_unrolled_wall || options.method == DenseMethod::kLucasKanade ||
-                              options.method == DenseMethod::kHybrid;
-    if (gauss_newton && options.presmooth_sigma_px > 0.0) {
+    if (presmooth) {
       cv::GaussianBlur(current, current, cv::Size(), options.presmooth_sigma_px);
     }
     DenseFrameRecord record;

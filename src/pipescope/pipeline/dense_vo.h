@@ -36,12 +36,14 @@ struct DenseVoOptions {
   // Gaussian smoothing of the registered frames (standard deviation, prepared pixels) for the
   // Gauss-Newton methods (dense-lk, dense-hybrid, dense-unrolled). Off by default: it trades
   // fine texture for what is left of the lighting pattern after gain correction, which stays put
-  // in the image and pulls the shift towards zero (measured: -0.2 % of the distance on
-  // dense-unrolled at 1 px, docs/dense_vo.md).
+  // in the image and pulls the shift towards zero (measured: dense-unrolled -0.08 % -> -0.44 %
+  // of the distance at 1 px, docs/dense_vo.md).
   double presmooth_sigma_px = 0.0;
   // A frame with more saturated pixels than this is not registered (000 Fig. 12: highlights
   // pull the registration to zero motion); its motion is predicted.
   double max_saturated_fraction = 0.2;
+  // Pixels of the raw frame at or above this 8-bit grey level count as saturated.
+  double saturation_level = 250.0;
   // 000's image-space mosaic uses frames at least this far apart (appendix).
   double mosaic_spacing_px = 50.0;
   bool build_mosaic = true;

@@ -17,24 +17,29 @@
 namespace pipescope {
 namespace {
 
-// A short steel-16in run at half resolution (320x240, registered at 160x120): 000 Table 1's
-// pipe 2 set-up, 3 s of travel.
+// 000 Table 1's pipe 2 set-up at half resolution (320x240, registered at 160x120), one way.
+SimulationConfig HalfResolutionSteel16In(int frames, double speed_m_s) {
+  SimulationConfig config = PresetConfig("steel-16in");
+  config.width = 320;
+  config.height = 240;
+  config.frames = frames;
+  config.out_and_back = false;
+  config.speed_m_s = speed_m_s;
+  config.white_card_count = 4;
+  return config;
+}
+
+// 3 s of travel.
 std::filesystem::path ShortSteelRun() {
   static const std::filesystem::path path = [] {
     const auto dir = MakeTestDirectory("dense_vo_short") / "steel";
-    SimulationConfig config = PresetConfig("steel-16in");
-    config.width = 320;
-    config.height = 240;
-    config.frames = 90;
-    config.out_and_back = false;
-    config.speed_m_s = 0.08;
+    SimulationConfig config = HalfResolutionSteel16In(90, 0.08);
     // The robot's drift across the pipe changes the wall distance and with it the scale, which
     // no dense method observes (docs/dense_vo.md); the tests check the methods, not the drift.
     config.lateral_offset_m = 0.0;
     // Likewise the pitch wobble: a net tilt between the first and last frames moves the image
     // like travel does (0.5 deg is 1.7 mm at this wall distance, 0.7 % of a 0.24 m run).
     config.wobble_deg = 0.0;
-    config.white_card_count = 4;
     SimulateDataset(config, dir);
     return dir;
   }();
@@ -103,18 +108,11 @@ INSTANTIATE_TEST_SUITE_P(Methods, DenseVoAccuracy,
 // 000 §4.2.3: a still camera must not random-walk.
 TEST(DenseVo, StillCameraStaysStill) {
   const auto dir = MakeTestDirectory("dense_vo_still") / "still";
-  SimulationConfig config = PresetConfig("steel-16in");
-  config.width = 320;
-  config.height = 240;
-  config.frames = 20;
-  config.out_and_back = false;
-  config.speed_m_s = 0.0;
-  config.white_card_count = 2;
-  SimulateDataset(config, dir);
+  SimulateDataset(HalfResolutionSteel16In(20, 0.0), dir);
+  const DatasetManifest manifest = OpenDataset(dir);
   for (DenseMethod method : {DenseMethod::kHybrid, DenseMethod::kUnrolled}) {
-    DenseVoResult result;
-    const DatasetManifest manifest = OpenDataset(dir);
-    result = RunDenseVo(manifest, ReadCamera(manifest.camera_path), HalfResolutionOptions(method));
+    const DenseVoResult result =
+        RunDenseVo(manifest, ReadCamera(manifest.camera_path), HalfResolutionOptions(method));
     ASSERT_EQ(result.trajectory.size(), 20u);
     for (const StampedPose& pose : result.trajectory) {
       EXPECT_EQ((pose.position - result.trajectory.front().position).norm(), 0.0)

@@ -5,22 +5,19 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
+#include "pipescope/pipeline/dense_frame_preparation.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
 namespace {
 
-// Where a ray from inside the cylinder x^2 + y^2 = r^2 meets the wall, as (h, s = r phi) with phi
-// from +X towards +Y, unwrapped to lie within pi of `phi_reference`. False for a ray along the
-// axis.
+// Where a ray from inside the pipe meets the wall, as (h, s = r phi) with phi from +X towards
+// +Y, unwrapped to lie within pi of `phi_reference`. False for a ray along the axis.
 bool WallCoordinates(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double radius,
                      double phi_reference, double* h, double* s) {
-  const double a = direction.x() * direction.x() + direction.y() * direction.y();
-  if (a < 1e-12) return false;
-  const double b = origin.x() * direction.x() + origin.y() * direction.y();
-  const double c = origin.x() * origin.x() + origin.y() * origin.y() - radius * radius;
-  const double t = (-b + std::sqrt(std::max(0.0, b * b - a * c))) / a;  // origin inside: c < 0
-  const Eigen::Vector3d point = origin + t * direction;
+  const std::optional<double> t = RayToWall(origin, direction, radius);
+  if (!t) return false;
+  const Eigen::Vector3d point = origin + *t * direction;
   double phi = std::atan2(point.y(), point.x());
   phi += 2.0 * std::numbers::pi * std::round((phi_reference - phi) / (2.0 * std::numbers::pi));
   *h = point.z();
@@ -116,12 +113,7 @@ UnrolledWallRegistration::UnrolledWallRegistration(const Camera& camera,
 }
 
 cv::Mat UnrolledWallRegistration::Unroll(const cv::Mat& frame) const {
-  cv::Mat filtered = frame;
-  if (downsample_ > 1) {
-    const cv::Size size(frame.cols / downsample_, frame.rows / downsample_);
-    cv::resize(frame(cv::Rect(0, 0, size.width * downsample_, size.height * downsample_)), filtered,
-               size, 0, 0, cv::INTER_AREA);
-  }
+  const cv::Mat filtered = DownsampleByBlockMean(frame, downsample_);
   cv::Mat unrolled;
   cv::remap(filtered, unrolled, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   return unrolled;
