@@ -40,12 +40,14 @@ Undistorter::Undistorter(const Camera& camera) : rectified_(MakeRectifiedCamera(
       map_y_.at<float>(y, x) = seen ? static_cast<float>(source.y()) : -10.0f;
     }
   }
+  cv::convertMaps(map_x_, map_y_, fixed_map_xy_, fixed_map_fraction_, CV_16SC2);
 }
 
 cv::Mat Undistorter::Apply(const cv::Mat& image) const {
   CV_Assert(image.cols == map_x_.cols && image.rows == map_x_.rows);
   cv::Mat rectified;
-  cv::remap(image, rectified, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  cv::remap(image, rectified, fixed_map_xy_, fixed_map_fraction_, cv::INTER_LINEAR,
+            cv::BORDER_CONSTANT, 0);
   return rectified;
 }
 

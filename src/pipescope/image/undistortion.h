@@ -21,8 +21,8 @@ class Undistorter {
  public:
   explicit Undistorter(const Camera& camera);
 
-  // Rectified copy of `image` (any type cv::remap takes), bilinear with cv::remap's 1/32 px
-  // weight quantisation; pixels whose ray the camera cannot see are 0.
+  // Rectified copy of `image` (any type cv::remap takes, in its own depth), bilinear with
+  // cv::remap's 1/32 px weight quantisation; pixels whose ray the camera cannot see are 0.
   cv::Mat Apply(const cv::Mat& image) const;
 
   // The rectified image's camera: pinhole-radtan without distortion.
@@ -36,6 +36,10 @@ class Undistorter {
   Camera rectified_;
   cv::Mat map_x_;
   cv::Mat map_y_;
+  // The same tables in cv::remap's fixed-point form (integer pixel and 1/32 px fraction):
+  // the same output as the float tables without converting them on every call.
+  cv::Mat fixed_map_xy_;
+  cv::Mat fixed_map_fraction_;
 };
 
 }  // namespace pipescope

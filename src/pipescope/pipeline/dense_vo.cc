@@ -12,6 +12,7 @@
 #include "pipescope/io/image_source.h"
 #include "pipescope/mapping/image_mosaic.h"
 #include "pipescope/mapping/unrolled_mosaic.h"
+#include "pipescope/pipeline/foreshortening.h"
 #include "pipescope/pipeline/unrolled_wall_registration.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
@@ -42,8 +43,10 @@ StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_
   return pose;
 }
 
+// `level` in 8-bit grey levels; `grey` in any depth.
 double SaturatedFraction(const cv::Mat& grey, double level) {
-  return static_cast<double>(cv::countNonZero(grey >= level)) / grey.total();
+  const double level_in_units = level / GreyLevelsPerUnit(grey.depth());
+  return static_cast<double>(cv::countNonZero(grey >= level_in_units)) / grey.total();
 }
 
 // Second pass of dense-unrolled: the frames on the unrolled wall at their estimated poses, one
@@ -148,6 +151,11 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   }
   const cv::Point2d band_principal_point = principal_point - cv::Point2d(band.tl());
   const cv::Point2d band_centre(0.5 * (band.width - 1), 0.5 * (band.height - 1));
+  std::optional<ForeshorteningProfile> foreshortening;
+  if (!on_unrolled_wall && options.foreshortening_correction && radius > 0.0) {
+    foreshortening.emplace(start, radius, wall_distance, zeta_prepared * wall_distance,
+                           principal_point, band, along_image_x);
+  }
   std::unique_ptr<UnrolledWallRegistration> unrolled;
   if (on_unrolled_wall) {
     // Cells of the prepared frames' pixel footprint on the wall the camera faces.
@@ -161,7 +169,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                           options.method == DenseMethod::kHybrid);
   DenseVoResult result;
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
-  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
+  ImageSourceOptions source_options{camera.Width(), camera.Height()};
+  source_options.native_depth = true;  // the preparation converts in its first pass
+  auto source = ImageSource::Open(manifest, source_options);
   ProgressBar progress(DenseMethodName(options.method), source->FrameCount());
   cv::Mat previous;
   double previous_timestamp = 0.0;
@@ -171,12 +181,13 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   std::optional<PairMotion> last_good;
   double last_good_dt = 0.0;
   Timer timer;
+  Timer stage;
   while (std::optional<Frame> frame = source->Next()) {
+    result.reading_seconds += stage.Lap();
     cv::Mat current, mosaic_frame;
     const double saturated = SaturatedFraction(frame->grey, options.saturation_level);
     if (on_unrolled_wall) {
-      current =
-          unrolled->Unroll(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask));
+      current = unrolled->Unroll(preparation.CorrectAndDownsample(frame->grey));
     } else {
       mosaic_frame = preparation.Prepare(frame->grey);
       current = mosaic_frame(band);
@@ -184,6 +195,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     if (presmooth) {
       cv::GaussianBlur(current, current, cv::Size(), options.presmooth_sigma_px);
     }
+    result.preparing_seconds += stage.Lap();
     DenseFrameRecord record;
     record.index = frame->index;
     record.timestamp = frame->timestamp;
@@ -224,7 +236,12 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         roll += unrolled->RollFromShift(motion.shift);
         pose = PipeAxisMotion(start, travel, roll);
       } else {
-        pose = ApplyImageMotion(pose, motion.shift, motion.rotation_rad, zeta_prepared,
+        cv::Point2d metric_shift = motion.shift;
+        if (foreshortening) {
+          (along_image_x ? metric_shift.x : metric_shift.y) /=
+              foreshortening->AxialScaleRatio(previous);
+        }
+        pose = ApplyImageMotion(pose, metric_shift, motion.rotation_rad, zeta_prepared,
                                 band_principal_point, band_centre);
       }
       content_offset -= motion.shift;
@@ -235,6 +252,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     previous = current;
     previous_timestamp = frame->timestamp;
     progress.Update(frame->index + 1);
+    result.registering_seconds += stage.Lap();
   }
   progress.Finish();
   result.registration_seconds = timer.ElapsedSeconds();

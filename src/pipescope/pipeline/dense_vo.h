@@ -28,11 +28,15 @@ struct DenseVoOptions {
   CameraMount mount;
   // The planar methods register only this fraction of the prepared frame across the pipe (rows
   // for a camera whose image x runs along the pipe), centred on the principal point. A
-  // wall-looking camera sees the curved wall farther away towards the image's edges across the
-  // pipe (000 §6.2.3), so those rows move at a different rate from the centre's, and a
-  // translational fit over all rows is biased by the mean of that variation; the bias shrinks
-  // with the square of the band. 1 = the whole frame, as 000.
+  // wall-looking camera sees the concave wall nearer towards the image's edges across the pipe
+  // (000 §6.2.3), so those rows move faster than the centre's, and a translational fit over all
+  // rows is biased by the mean of that variation; the bias grows with the square of the band.
+  // 1 = the whole frame, as 000.
   double registration_band = 0.5;
+  // The planar methods divide the axial image shift by the band's foreshortening ratio
+  // (pipeline/foreshortening.h) when the dataset gives the pipe's radius: the band's lines away
+  // from the principal point see the wall nearer and move more. Off: 000 eq. 19 as written.
+  bool foreshortening_correction = true;
   // Gaussian smoothing of the registered frames (standard deviation, prepared pixels) for the
   // Gauss-Newton methods (dense-lk, dense-hybrid, dense-unrolled). Off by default: it trades
   // fine texture for what is left of the lighting pattern after gain correction, which stays put
@@ -77,7 +81,12 @@ struct DenseVoResult {
   double mosaic_pixel_m = 0.0;  // dense-unrolled: the unrolled mosaic's cell size
   // dense-unrolled: (h, s) of the mosaic's cell (0, 0), metres.
   cv::Point2d mosaic_origin_m;
+  // Wall-clock seconds of the frame loop, and of its stages: reading and decoding the frames,
+  // preparing them (gain, undistortion or unrolling, downsampling), registering the pairs.
   double registration_seconds = 0.0;
+  double reading_seconds = 0.0;
+  double preparing_seconds = 0.0;
+  double registering_seconds = 0.0;
 };
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is
