@@ -66,8 +66,9 @@ cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor) {
 }
 
 DenseFramePreparation::DenseFramePreparation(const Camera& camera, const cv::Mat& gain_mask,
-                                             const DenseFrameOptions& options)
-    : undistorter_(camera), options_(options) {
+                                             const DenseFrameOptions& options,
+                                             const LineStretch& stretch)
+    : undistorter_(camera, stretch), options_(options) {
   if (options.downsample < 1 || options.downsample > 16) {
     throw InputError("downsample: must be an integer in 1..16, got " +
                      std::to_string(options.downsample));

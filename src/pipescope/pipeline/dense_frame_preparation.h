@@ -27,10 +27,11 @@ cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor);
 
 class DenseFramePreparation {
  public:
-  // `gain_mask` may be empty (no correction). Throws InputError when the mask's size differs
-  // from the camera's or the factor is not in 1..16.
+  // `gain_mask` may be empty (no correction); `stretch` resamples the undistorted image line by
+  // line (image/undistortion.h; pipeline/foreshortening.h). Throws InputError when the mask's
+  // size differs from the camera's or the factor is not in 1..16.
   DenseFramePreparation(const Camera& camera, const cv::Mat& gain_mask,
-                        const DenseFrameOptions& options);
+                        const DenseFrameOptions& options, const LineStretch& stretch = {});
 
   // `grey`: one channel, the camera's size, CV_8U, CV_16U (scaled to 8-bit grey levels) or
   // CV_32F in 8-bit grey levels. Returns the gain-corrected, undistorted, downsampled frame

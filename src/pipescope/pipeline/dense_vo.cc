@@ -128,7 +128,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
   const cv::Mat gain_mask =
       manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
-  const DenseFramePreparation preparation(camera, gain_mask, options.frames);
+  DenseFramePreparation preparation(camera, gain_mask, options.frames);
   const double zeta_prepared = preparation.ScaleAtPreparedResolution(zeta);
   const cv::Point2d principal_point = preparation.PreparedPrincipalPoint();
   const cv::Size prepared_size = preparation.PreparedSize();
@@ -151,10 +151,19 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   }
   const cv::Point2d band_principal_point = principal_point - cv::Point2d(band.tl());
   const cv::Point2d band_centre(0.5 * (band.width - 1), 0.5 * (band.height - 1));
-  std::optional<ForeshorteningProfile> foreshortening;
+  // The planar methods' frames resampled so that every line of the band moves at the same rate
+  // along the pipe, axial_ratio * zeta (pipeline/foreshortening.h).
+  double axial_ratio = 1.0;
   if (!on_unrolled_wall && options.foreshortening_correction && radius > 0.0) {
-    foreshortening.emplace(start, radius, wall_distance, zeta_prepared * wall_distance,
-                           principal_point, band, along_image_x);
+    const int factor = options.frames.downsample;
+    const std::vector<double> ratios = WallDepthRatios(
+        start, radius, wall_distance, CentralFocalLengthPx(camera), PrincipalPoint(camera),
+        along_image_x ? camera.Height() : camera.Width(), along_image_x);
+    const AxialScaleEqualisation equalisation =
+        EqualiseAxialScale(ratios, factor * (along_image_x ? band.y : band.x),
+                           factor * (along_image_x ? band.height : band.width), along_image_x);
+    axial_ratio = equalisation.axial_ratio;
+    preparation = DenseFramePreparation(camera, gain_mask, options.frames, equalisation.stretch);
   }
   std::unique_ptr<UnrolledWallRegistration> unrolled;
   if (on_unrolled_wall) {
@@ -237,10 +246,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         pose = PipeAxisMotion(start, travel, roll);
       } else {
         cv::Point2d metric_shift = motion.shift;
-        if (foreshortening) {
-          (along_image_x ? metric_shift.x : metric_shift.y) /=
-              foreshortening->AxialScaleRatio(previous);
-        }
+        (along_image_x ? metric_shift.x : metric_shift.y) /= axial_ratio;
         pose = ApplyImageMotion(pose, metric_shift, motion.rotation_rad, zeta_prepared,
                                 band_principal_point, band_centre);
       }

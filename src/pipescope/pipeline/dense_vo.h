@@ -33,9 +33,10 @@ struct DenseVoOptions {
   // rows is biased by the mean of that variation; the bias grows with the square of the band.
   // 1 = the whole frame, as 000.
   double registration_band = 0.5;
-  // The planar methods divide the axial image shift by the band's foreshortening ratio
-  // (pipeline/foreshortening.h) when the dataset gives the pipe's radius: the band's lines away
-  // from the principal point see the wall nearer and move more. Off: 000 eq. 19 as written.
+  // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
+  // line so that every line of the band moves at the same rate along the pipe, and that rate
+  // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
+  // principal point see the concave wall nearer and would move more. Off: 000 eq. 19 as written.
   bool foreshortening_correction = true;
   // Gaussian smoothing of the registered frames (standard deviation, prepared pixels) for the
   // Gauss-Newton methods (dense-lk, dense-hybrid, dense-unrolled). Off by default: it trades

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
+#include "pipescope/camera/camera.h"
 #include "pipescope/pipeline/dense_motion_model.h"
 
 namespace pipescope {
@@ -20,48 +22,76 @@ double ClosedFormRatio(double radius, double d, double tan_a) {
   return d / (t * std::cos(a));
 }
 
-TEST(ForeshorteningProfile, RatiosFollowTheCircleForEveryMount) {
+TEST(WallDepthRatios, FollowTheCircleForEveryMount) {
   const double radius = 0.0767, focal = 64.0;
   const cv::Point2d principal(63.7, 47.2);
   for (const double d : {radius, 0.05, 0.11}) {  // centred, near the wall, past the axis
     for (const std::string axis : {"x", "-y"}) {
       const bool along_x = axis == "x";
-      const Eigen::Isometry3d start = MountedStartPose({axis}, radius, d);
-      const cv::Rect band = along_x ? cv::Rect(0, 20, 128, 50) : cv::Rect(30, 0, 60, 96);
-      const ForeshorteningProfile profile(start, radius, d, focal, principal, band, along_x);
-      ASSERT_EQ(profile.ratios().size(), static_cast<std::size_t>(along_x ? 50 : 60));
-      for (std::size_t i = 0; i < profile.ratios().size(); ++i) {
-        const double offset =
-            along_x ? (band.y + i - principal.y) / focal : (band.x + i - principal.x) / focal;
-        EXPECT_NEAR(profile.ratios()[i], ClosedFormRatio(radius, d, offset), 1e-9);
-        EXPECT_GE(profile.ratios()[i], 1.0 - 1e-12);  // the wall is concave
+      const int lines = along_x ? 96 : 128;
+      const std::vector<double> ratios = WallDepthRatios(
+          MountedStartPose({axis}, radius, d), radius, d, focal, principal, lines, along_x);
+      ASSERT_EQ(ratios.size(), static_cast<std::size_t>(lines));
+      for (int i = 0; i < lines; ++i) {
+        const double offset = (i - (along_x ? principal.y : principal.x)) / focal;
+        EXPECT_NEAR(ratios[i], ClosedFormRatio(radius, d, offset), 1e-9);
+        EXPECT_GE(ratios[i], 1.0 - 1e-12);  // the wall is concave
       }
     }
   }
 }
 
-TEST(ForeshorteningProfile, WeightsLinesByTheirGradientAlongThePipe) {
-  const double radius = 0.0767, d = 0.06, focal = 64.0;
-  const cv::Rect band(0, 0, 40, 30);
-  const ForeshorteningProfile profile(MountedStartPose({"x"}, radius, d), radius, d, focal,
-                                      {19.5, 14.5}, band, true);
-  const std::vector<double>& ratios = profile.ratios();
-  // Texture along the pipe on row 3 only: that row's ratio.
-  cv::Mat one_row = cv::Mat::zeros(band.size(), CV_32F);
-  for (int x = 0; x < band.width; x += 2) one_row.at<float>(3, x) = 10.0f;
-  EXPECT_NEAR(profile.AxialScaleRatio(one_row), ratios[3], 1e-12);
-  // Stripes across the pipe (the same in every row): the mean ratio.
-  cv::Mat stripes(band.size(), CV_32F);
-  for (int y = 0; y < band.height; ++y) {
-    for (int x = 0; x < band.width; ++x) stripes.at<float>(y, x) = std::sin(0.7 * x);
+// The property the correction exists for: after the stretch, wall points on every line of the
+// band move by the same number of pixels, axial_ratio * zeta * travel, when the camera moves
+// along the pipe; without it they do not.
+TEST(EqualiseAxialScale, EveryBandLineMovesAtTheSameRate) {
+  const double radius = 0.0767, d = 0.07;
+  const int width = 256, height = 192;
+  const double f = 180.0;
+  const cv::Point2d c(127.5, 95.5);
+  const Camera camera(CameraModelId::kPinholeRadtan, width, height,
+                      {f, f, c.x, c.y, 0.0, 0.0, 0.0, 0.0, 0.0});
+  const Eigen::Isometry3d start = MountedStartPose({"x"}, radius, d);
+  const std::vector<double> ratios =
+      WallDepthRatios(start, radius, d, f, c, height, /*lines_are_rows=*/true);
+  const int first = 48, lines = 96;  // the central half
+  const AxialScaleEqualisation equalisation = EqualiseAxialScale(ratios, first, lines, true);
+  const Undistorter stretched(camera, equalisation.stretch);
+  const double zeta = f / d, travel = 0.002;
+  double spread_before = 0.0;
+  for (int y = first; y < first + lines; y += 5) {
+    for (const double x : {40.0, 127.5, 200.0}) {
+      // The wall point seen at (x, y), and where it is after the camera travels along +Z.
+      Eigen::Vector3d ray((x - c.x) / f, (y - c.y) / f, 1.0);
+      const Eigen::Vector3d world_ray = start.linear() * ray;
+      double t = 0.0;
+      {
+        // Ray and circle in the cross-section, as WallDepthRatios does it.
+        const Eigen::Vector2d o = start.translation().head<2>(), v = world_ray.head<2>();
+        const double a = v.squaredNorm(), b = 2.0 * o.dot(v),
+                     cc = o.squaredNorm() - radius * radius;
+        t = (-b + std::sqrt(b * b - 4.0 * a * cc)) / (2.0 * a);
+      }
+      const Eigen::Vector3d point = start.translation() + t * world_ray;
+      Eigen::Isometry3d moved = start;
+      moved.translation().z() += travel;
+      const Eigen::Vector3d in_cam = moved.inverse() * point;
+      const double x_after = c.x + f * in_cam.x() / in_cam.z();
+      const double y_after = c.y + f * in_cam.y() / in_cam.z();
+      EXPECT_NEAR(y_after, y, 1e-9);  // axial travel moves along the rows only
+      // In the stretched image a perspective x sits at c.x + (x - c.x) / factor.
+      const double factor = equalisation.stretch.factors[y];
+      const double shift = ((x_after - c.x) - (x - c.x)) / factor;
+      EXPECT_NEAR(std::abs(shift), equalisation.axial_ratio * zeta * travel, 1e-9) << "row " << y;
+      spread_before = std::max(spread_before, std::abs(std::abs(x_after - x) - zeta * travel));
+      // And the stretched tables sample where the stretch says.
+      const cv::Point2f source = stretched.SourcePixel(static_cast<int>(x), y);
+      EXPECT_NEAR(source.x, c.x + factor * (static_cast<int>(x) - c.x), 1e-3);
+    }
   }
-  double mean = 0.0;
-  for (const double ratio : ratios) mean += ratio / ratios.size();
-  EXPECT_NEAR(profile.AxialScaleRatio(stripes), mean, 1e-9);
-  // Texture that varies only across the pipe has no gradient along it: no correction.
-  cv::Mat across(band.size(), CV_32F);
-  for (int y = 0; y < band.height; ++y) across.row(y).setTo(static_cast<float>(y % 3));
-  EXPECT_DOUBLE_EQ(profile.AxialScaleRatio(across), 1.0);
+  // Unstretched, the band's edge rows move a few per cent more than the centre's.
+  EXPECT_GT(spread_before, 0.01 * zeta * travel);
+  for (int i = first; i < first + lines; ++i) EXPECT_LE(equalisation.stretch.factors[i], 1.0);
 }
 
 }  // namespace
