@@ -182,13 +182,27 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   source_options.native_depth = true;  // the preparation converts in its first pass
   auto source = ImageSource::Open(manifest, source_options);
   ProgressBar progress(DenseMethodName(options.method), source->FrameCount());
-  cv::Mat previous;
+  // Each frame is registered to the current key frame, not to the one before: a registration's
+  // sub-pixel bias then accrues once per key frame instead of once per frame (at 3 px a frame,
+  // 0.01 px is 0.3 % of the travel). A frame becomes the key frame when its shift from the key
+  // reaches key_frame_window_fraction of the full-search window, or its registration failed.
+  struct KeyFrame {
+    cv::Mat image;
+    Eigen::Isometry3d pose;
+    double travel = 0.0, roll = 0.0;  // dense-unrolled's state
+    cv::Point2d content_offset;       // the image mosaic's
+  };
+  std::optional<KeyFrame> key;
+  // The previous frame's motion from the key frame, and the last good per-frame motion.
+  cv::Point2d previous_shift(0.0, 0.0);
+  double previous_rotation = 0.0;
+  std::optional<PairMotion> velocity;
+  double velocity_dt = 0.0;
   double previous_timestamp = 0.0;
-  Eigen::Isometry3d pose = start;
-  double travel = 0.0, roll = 0.0;  // dense-unrolled's state
-  cv::Point2d content_offset(0.0, 0.0);
-  std::optional<PairMotion> last_good;
-  double last_good_dt = 0.0;
+  const double key_shift_x =
+      options.key_frame_window_fraction * options.registration.full_search.max_shift_x_px;
+  const double key_shift_y =
+      options.key_frame_window_fraction * options.registration.full_search.max_shift_y_px;
   Timer timer;
   Timer stage;
   while (std::optional<Frame> frame = source->Next()) {
@@ -209,8 +223,15 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     record.index = frame->index;
     record.timestamp = frame->timestamp;
     record.name = frame->name;
-    if (!previous.empty()) {
+    Eigen::Isometry3d pose = start;
+    cv::Point2d content_offset(0.0, 0.0);
+    bool new_key = true;
+    if (key) {
       const double dt = frame->timestamp - previous_timestamp;
+      // Constant velocity: the last good frame's motion, scaled to this time step.
+      const double ratio = velocity && velocity_dt > 0.0 ? dt / velocity_dt : 0.0;
+      const cv::Point2d step = velocity ? velocity->shift * ratio : cv::Point2d(0.0, 0.0);
+      const double step_rotation = velocity ? velocity->rotation_rad * ratio : 0.0;
       PairMotion motion;
       if (saturated > options.max_saturated_fraction) {
         motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
@@ -219,43 +240,52 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         // dense-unrolled registers the unrolled pair with the hybrid method.
         const DenseMethod registration_method =
             on_unrolled_wall ? DenseMethod::kHybrid : options.method;
-        const cv::Point2d predicted = last_good && last_good_dt > 0.0
-                                          ? last_good->shift * (dt / last_good_dt)
-                                          : cv::Point2d(0.0, 0.0);
-        motion = RegisterPlanarPair(registration_method, previous, current, options.registration,
-                                    predicted);
+        motion = RegisterPlanarPair(registration_method, key->image, current, options.registration,
+                                    previous_shift + step);
       }
       if (motion.failure.empty()) {
-        last_good = motion;
-        last_good_dt = dt;
+        velocity = motion;
+        velocity->shift = motion.shift - previous_shift;
+        velocity->rotation_rad = motion.rotation_rad - previous_rotation;
+        velocity_dt = dt;
       } else {
-        // Constant velocity (issue 5): the last good pair's motion, scaled to this time step.
         ++result.failed_pairs;
-        const double ratio = last_good && last_good_dt > 0.0 ? dt / last_good_dt : 0.0;
-        motion.shift = last_good ? last_good->shift * ratio : cv::Point2d(0.0, 0.0);
-        motion.rotation_rad = last_good ? last_good->rotation_rad * ratio : 0.0;
+        motion.shift = previous_shift + step;
+        motion.rotation_rad = previous_rotation + step_rotation;
       }
-      record.shift = motion.shift;
-      record.rotation_rad = motion.rotation_rad;
+      record.shift = motion.shift - previous_shift;
+      record.rotation_rad = motion.rotation_rad - previous_rotation;
       record.correlation = motion.correlation;
       record.still = motion.still;
       record.failure = motion.failure;
       if (on_unrolled_wall) {
-        travel += unrolled->TravelFromShift(motion.shift);
-        roll += unrolled->RollFromShift(motion.shift);
-        pose = PipeAxisMotion(start, travel, roll);
+        pose = PipeAxisMotion(start, key->travel + unrolled->TravelFromShift(motion.shift),
+                              key->roll + unrolled->RollFromShift(motion.shift));
       } else {
         cv::Point2d metric_shift = motion.shift;
         (along_image_x ? metric_shift.x : metric_shift.y) /= axial_ratio;
-        pose = ApplyImageMotion(pose, metric_shift, motion.rotation_rad, zeta_prepared,
+        pose = ApplyImageMotion(key->pose, metric_shift, motion.rotation_rad, zeta_prepared,
                                 band_principal_point, band_centre);
       }
-      content_offset -= motion.shift;
+      content_offset = key->content_offset - motion.shift;
+      new_key = !motion.failure.empty() || std::abs(motion.shift.x) >= key_shift_x ||
+                std::abs(motion.shift.y) >= key_shift_y;
+      previous_shift = motion.shift;
+      previous_rotation = motion.rotation_rad;
+    }
+    if (new_key) {
+      KeyFrame next_key{current, pose, 0.0, 0.0, content_offset};
+      if (on_unrolled_wall) {
+        next_key.travel = (key ? key->travel + unrolled->TravelFromShift(previous_shift) : 0.0);
+        next_key.roll = (key ? key->roll + unrolled->RollFromShift(previous_shift) : 0.0);
+      }
+      key = std::move(next_key);
+      previous_shift = cv::Point2d(0.0, 0.0);
+      previous_rotation = 0.0;
     }
     if (options.build_mosaic && !on_unrolled_wall) image_mosaic.Add(mosaic_frame, content_offset);
     result.trajectory.push_back(ToStampedPose(frame->timestamp, pose));
     result.frames.push_back(std::move(record));
-    previous = current;
     previous_timestamp = frame->timestamp;
     progress.Update(frame->index + 1);
     result.registering_seconds += stage.Lap();

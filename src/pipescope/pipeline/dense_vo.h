@@ -33,6 +33,11 @@ struct DenseVoOptions {
   // rows is biased by the mean of that variation; the bias grows with the square of the band.
   // 1 = the whole frame, as 000.
   double registration_band = 0.5;
+  // Frames are registered to a key frame, which is renewed when a frame's shift from it reaches
+  // this fraction of the full-search window (search_x_px, search_y_px) or a registration
+  // fails: a registration's sub-pixel bias accrues once per key frame, not once per frame.
+  // 0: every frame is registered to the one before, as 000.
+  double key_frame_window_fraction = 0.5;
   // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
   // line so that every line of the band moves at the same rate along the pipe, and that rate
   // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
@@ -61,7 +66,9 @@ struct DenseFrameRecord {
   std::size_t index = 0;
   double timestamp = 0.0;
   std::string name;
-  cv::Point2d shift;          // the image (or unrolled-grid) shift from the previous frame
+  // The image (or unrolled-grid) motion from the previous frame (the difference of the two
+  // frames' registrations to their key frame).
+  cv::Point2d shift;
   double rotation_rad = 0.0;  // phase only
   double correlation = 0.0;   // overlap ZNCC after registration
   bool still = false;
