@@ -1,6 +1,7 @@
 // `pipescope map`: fisheye pipe mapping (001 §III A-C), writing a run directory (GUIDE §4):
 // trajectory.tum, keyframes.tum, points_sparse.ply, classification.png, run.json and, with
 // ground truth, metrics.json.
+#include <glog/logging.h>
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
@@ -111,8 +112,8 @@ void WriteSparsePly(const std::filesystem::path& path, const FisheyeMappingResul
       << "element vertex " << result.points.size()
       << "\nproperty float x\nproperty float y\nproperty float z\n"
       << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-  static const int kStraightColours[4][3] = {{40, 90, 220}, {40, 180, 90}, {30, 160, 200},
-                                             {120, 200, 40}};
+  static const int kStraightColours[4][3] = {
+      {40, 90, 220}, {40, 180, 90}, {30, 160, 200}, {120, 200, 40}};
   for (const SparsePoint& point : result.points) {
     const FisheyeSection& section = result.sections[point.section];
     int rgb[3] = {220, 40, 40};
@@ -143,7 +144,8 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
     const FisheyeSection& section = result.sections[s];
     const FisheyeKeyframe& first = result.keyframes[section.first_keyframe];
     const FisheyeKeyframe& last = result.keyframes[section.last_keyframe];
-    const double est_m = (last.world_from_cam.translation() - first.world_from_cam.translation()).norm();
+    const double est_m =
+        (last.world_from_cam.translation() - first.world_from_cam.translation()).norm();
     nlohmann::json entry = {{"index", s},
                             {"class", PipeViewClassName(section.view_class)},
                             {"first_keyframe", section.first_keyframe},
@@ -168,6 +170,9 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
 
 int RunMap(const MapFlags& flags) {
   const Timer total;
+  // Ceres logs each rejected Levenberg-Marquardt step of a badly conditioned window as a
+  // warning; the window statistics in run.json say what matters.
+  FLAGS_minloglevel = google::GLOG_ERROR;
   DatasetManifest manifest = OpenDataset(
       flags.dataset, {.camera_path = flags.camera, .inner_radius_m = flags.radius, .fps = {}});
   FisheyeMappingOptions options;
@@ -175,7 +180,8 @@ int RunMap(const MapFlags& flags) {
   if (!flags.config.empty()) ApplyMapConfig(flags.config, &options);
   const Camera camera = ReadCamera(manifest.camera_path);
   std::optional<Trajectory> ground_truth;
-  if (!manifest.groundtruth_path.empty()) ground_truth = ReadTumTrajectory(manifest.groundtruth_path);
+  if (!manifest.groundtruth_path.empty())
+    ground_truth = ReadTumTrajectory(manifest.groundtruth_path);
   StagingDirectory staging(flags.out, "--out", "run.json");
 
   const FisheyeMappingResult result = RunFisheyeMapping(manifest, camera, options);
@@ -186,7 +192,8 @@ int RunMap(const MapFlags& flags) {
   RunReport report("map");
   report.SetMethod("fisheye-sba-cylinder");
   report.SetOptions(OptionsJson(options));
-  report.SetCount("frames", result.frames + static_cast<long long>(result.unreadable_frames.size()));
+  report.SetCount("frames",
+                  result.frames + static_cast<long long>(result.unreadable_frames.size()));
   report.SetCount("frames_localised", static_cast<long long>(result.trajectory.size()));
   report.SetCount("frames_unusable", static_cast<long long>(result.failed_frames.size()));
   report.SetCount("frames_unreadable", static_cast<long long>(result.unreadable_frames.size()));
@@ -198,19 +205,19 @@ int RunMap(const MapFlags& flags) {
   report.AddTiming("odometry", result.odometry_seconds);
   nlohmann::json classification = nlohmann::json::array();
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
-    classification.push_back(
-        {{"frame", keyframe.frame_index},
-         {"name", keyframe.name},
-         {"initial", PipeViewClassName(keyframe.initial_class)},
-         {"class", PipeViewClassName(keyframe.filtered_class)},
-         {"moment_ratio", std::isfinite(keyframe.moment_ratio) ? nlohmann::json(keyframe.moment_ratio)
-                                                                : nlohmann::json(nullptr)},
-         {"section", keyframe.section},
-         {"features", keyframe.features},
-         {"matches_cosine", keyframe.matches_cosine},
-         {"matches_guided", keyframe.matches_guided},
-         {"scale_points", keyframe.points_used},
-         {"median_flow_px", keyframe.median_flow_px}});
+    classification.push_back({{"frame", keyframe.frame_index},
+                              {"name", keyframe.name},
+                              {"initial", PipeViewClassName(keyframe.initial_class)},
+                              {"class", PipeViewClassName(keyframe.filtered_class)},
+                              {"moment_ratio", std::isfinite(keyframe.moment_ratio)
+                                                   ? nlohmann::json(keyframe.moment_ratio)
+                                                   : nlohmann::json(nullptr)},
+                              {"section", keyframe.section},
+                              {"features", keyframe.features},
+                              {"matches_cosine", keyframe.matches_cosine},
+                              {"matches_guided", keyframe.matches_guided},
+                              {"scale_points", keyframe.points_used},
+                              {"median_flow_px", keyframe.median_flow_px}});
   }
   report.Extra("keyframes") = classification;
   report.Extra("sections") = SectionsJson(result, ground_truth ? &*ground_truth : nullptr);
@@ -231,7 +238,8 @@ int RunMap(const MapFlags& flags) {
   report.Extra("windows") = windows;
   nlohmann::json failed = nlohmann::json::array();
   for (const FisheyeFrameFailure& failure : result.failed_frames) {
-    failed.push_back({{"index", failure.index}, {"name", failure.name}, {"reason", failure.reason}});
+    failed.push_back(
+        {{"index", failure.index}, {"name", failure.name}, {"reason", failure.reason}});
   }
   report.Extra("failed_frames") = failed;
   report.Extra("unreadable_frames") = result.unreadable_frames;
@@ -264,9 +272,11 @@ int RunMap(const MapFlags& flags) {
   report.Extra("fps_end_to_end") = result.frames / std::max(1e-9, seconds);
   report.Write(staging.path() / "run.json");
   staging.Commit();
-  spdlog::info("map: {} frames, {} key frames, {} sections, {} points in {:.1f} s ({:.2f} frames/s); wrote {}",
-               result.frames, result.keyframes.size(), result.sections.size(),
-               result.points.size(), seconds, result.frames / std::max(1e-9, seconds), flags.out);
+  spdlog::info(
+      "map: {} frames, {} key frames, {} sections, {} points in {:.1f} s ({:.2f} frames/s); wrote "
+      "{}",
+      result.frames, result.keyframes.size(), result.sections.size(), result.points.size(), seconds,
+      result.frames / std::max(1e-9, seconds), flags.out);
   return kExitSuccess;
 }
 

@@ -4,20 +4,13 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "pipescope/fisheye/median.h"
+
 namespace pipescope {
-namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-}  // namespace
 
 FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions& options)
-    : camera_(camera), options_(options),
+    : camera_(camera),
+      options_(options),
       bearings_(camera, options.max_view_angle_deg * M_PI / 180.0) {
   // Corners only where their whole descriptor region lies inside the field of view.
   const int side = options_.descriptor.region_size_px;
@@ -34,8 +27,7 @@ bool FeatureTracker::Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing)
 }
 
 void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
-                                  std::vector<TrackedFeature> features,
-                                  TrackedKeyframe* keyframe) {
+                                  std::vector<TrackedFeature> features, TrackedKeyframe* keyframe) {
   auto state = std::make_unique<KeyframeState>();
   state->frame_index = frame_index;
   state->grey = grey.clone();
@@ -92,8 +84,8 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   std::vector<double> flows;
   for (std::size_t k = 0; k < usable_matches.size(); ++k) {
     if (!pose.inliers[k]) continue;
-    flows.push_back(cv::norm(last_->points[usable_matches[k].index_a] -
-                             points[usable_matches[k].index_b]));
+    flows.push_back(
+        cv::norm(last_->points[usable_matches[k].index_a] - points[usable_matches[k].index_b]));
   }
   step.median_flow_px = Median(flows);
   step.correspondence_fraction =
@@ -111,8 +103,8 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     const FeatureMatch& match = usable_matches[k];
     matched_i[match.index_a] = 1;
     used_j[match.index_b] = 1;
-    features.push_back({last_->features[match.index_a].track_id, points[match.index_b],
-                        bearings_j[k]});
+    features.push_back(
+        {last_->features[match.index_a].track_id, points[match.index_b], bearings_j[k]});
   }
   const int matches_cosine = static_cast<int>(features.size());
   // ... the key frame's unmatched features are searched for by guided ZNCC ...
@@ -120,9 +112,8 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     for (std::size_t i = 0; i < last_->features.size(); ++i) {
       if (matched_i[i]) continue;
       const TrackedFeature& feature = last_->features[i];
-      const GuidedMatch guided =
-          GuidedZnccSearch(last_->grey, grey, feature.pixel, feature.bearing, pose.essential,
-                           bearings_, options_.guided);
+      const GuidedMatch guided = GuidedZnccSearch(last_->grey, grey, feature.pixel, feature.bearing,
+                                                  pose.essential, bearings_, options_.guided);
       if (!guided.found) continue;
       const int x = static_cast<int>(std::lround(guided.point_j.x));
       const int y = static_cast<int>(std::lround(guided.point_j.y));

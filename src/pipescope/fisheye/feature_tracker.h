@@ -60,8 +60,8 @@ struct TrackedKeyframe {
 
 struct TrackingStep {
   bool keyframe = false;
-  bool usable = true;       // false: the frame could not be matched to the key frame
-  std::string failure;      // why not usable
+  bool usable = true;   // false: the frame could not be matched to the key frame
+  std::string failure;  // why not usable
   double median_flow_px = 0.0;
   double correspondence_fraction = 0.0;
   int inliers = 0;

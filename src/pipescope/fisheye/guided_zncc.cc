@@ -16,9 +16,9 @@ BearingTable::BearingTable(const Camera& camera, double max_view_angle_rad)
           bearing.z() < std::cos(max_view_angle_rad)) {
         continue;
       }
-      bearings_.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(bearing.x()),
-                                                static_cast<float>(bearing.y()),
-                                                static_cast<float>(bearing.z()));
+      bearings_.at<cv::Vec3f>(y, x) =
+          cv::Vec3f(static_cast<float>(bearing.x()), static_cast<float>(bearing.y()),
+                    static_cast<float>(bearing.z()));
       valid_.at<uchar>(y, x) = 255;
     }
   }

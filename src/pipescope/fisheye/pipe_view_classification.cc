@@ -173,8 +173,8 @@ cv::Mat DrawClassificationStrip(const std::vector<PipeViewClass>& initial,
     if (classes.empty()) return;
     for (int x = 0; x < width_px; ++x) {
       const std::size_t index =
-          std::min(classes.size() - 1, static_cast<std::size_t>(
-                                           static_cast<double>(x) * classes.size() / width_px));
+          std::min(classes.size() - 1,
+                   static_cast<std::size_t>(static_cast<double>(x) * classes.size() / width_px));
       const uchar value = classes[index] == PipeViewClass::kStraight ? 200 : 0;
       strip(cv::Rect(x, top, 1, row_height_px)).setTo(value);
     }

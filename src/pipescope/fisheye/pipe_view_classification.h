@@ -39,9 +39,9 @@ struct PipeViewClassificationOptions {
 // What one image's classification saw.
 struct PipeViewMeasurement {
   PipeViewClass view_class = PipeViewClass::kStraight;
-  double moment_ratio = 0.0;   // L_p / L (infinity when there is no blob)
-  int blob_area_px = 0;        // at the reduced resolution
-  cv::Point2d blob_centroid;   // full-resolution pixels
+  double moment_ratio = 0.0;  // L_p / L (infinity when there is no blob)
+  int blob_area_px = 0;       // at the reduced resolution
+  cv::Point2d blob_centroid;  // full-resolution pixels
 };
 
 // Classifies images of one camera; the field-of-view mask and the principal point are computed

@@ -83,8 +83,10 @@ TEST(PipeViewClassificationTest, SimulatedStraightAndTFramesAfterFiltering) {
 TEST(PipeViewClassificationTest, FilteringEnforcesMinimumClusterSize) {
   using C = PipeViewClass;
   const C S = C::kStraight, T = C::kTIntersection;
-  const std::vector<C> classes = {S, S, S, S, T, S, S, S, S, T, T, T, T, T, S, T, T, T, T, S, S, S, S, S};
-  const std::vector<C> expected = {S, S, S, S, S, S, S, S, S, T, T, T, T, T, T, T, T, T, T, S, S, S, S, S};
+  const std::vector<C> classes = {S, S, S, S, T, S, S, S, S, T, T, T,
+                                  T, T, S, T, T, T, T, S, S, S, S, S};
+  const std::vector<C> expected = {S, S, S, S, S, S, S, S, S, T, T, T,
+                                   T, T, T, T, T, T, T, S, S, S, S, S};
   EXPECT_EQ(FilterPipeViewClasses(classes, 3), expected);
   // Long enough runs are left alone.
   EXPECT_EQ(FilterPipeViewClasses(expected, 5), expected);

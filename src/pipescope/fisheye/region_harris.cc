@@ -32,14 +32,16 @@ std::vector<cv::Point2f> DetectRegionHarris(const cv::Mat& grey, const cv::Mat& 
     for (int x = border; x < grey.cols - border; ++x) {
       if (r[x] <= min_response || r[x] < d[x] || (m && !m[x])) continue;
       const int region = region_y * options.regions_x + x * options.regions_x / grey.cols;
-      per_region[region].push_back({r[x], cv::Point2f(static_cast<float>(x), static_cast<float>(y))});
+      per_region[region].push_back(
+          {r[x], cv::Point2f(static_cast<float>(x), static_cast<float>(y))});
     }
   }
   std::vector<cv::Point2f> corners;
   for (std::vector<Candidate>& candidates : per_region) {
     const std::size_t keep = std::min<std::size_t>(options.per_region, candidates.size());
-    std::partial_sort(candidates.begin(), candidates.begin() + keep, candidates.end(),
-                      [](const Candidate& a, const Candidate& b) { return a.response > b.response; });
+    std::partial_sort(
+        candidates.begin(), candidates.begin() + keep, candidates.end(),
+        [](const Candidate& a, const Candidate& b) { return a.response > b.response; });
     for (std::size_t k = 0; k < keep; ++k) corners.push_back(candidates[k].point);
   }
   return corners;

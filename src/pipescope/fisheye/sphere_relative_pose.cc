@@ -161,8 +161,7 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
   std::vector<char> inliers;
   int needed = options.max_iterations;
   int iteration = 0;
-  for (; iteration < std::max(needed, options.min_iterations) &&
-         iteration < options.max_iterations;
+  for (; iteration < std::max(needed, options.min_iterations) && iteration < options.max_iterations;
        ++iteration) {
     // Eight distinct indices (partial Fisher-Yates).
     for (int k = 0; k < 8; ++k) {
@@ -173,8 +172,7 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
     Eigen::Matrix3d essential;
     if (!EssentialFromBearingsLinear(bearings_i, bearings_j, sample, &essential)) continue;
     int count = 0;
-    CountInliers(essential, bearings_i, bearings_j, options.inlier_threshold_rad, &inliers,
-                 &count);
+    CountInliers(essential, bearings_i, bearings_j, options.inlier_threshold_rad, &inliers, &count);
     if (count > result.num_inliers) {
       result.num_inliers = count;
       result.essential = essential;
@@ -206,10 +204,10 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
                              result.translation.z()};
     ceres::Problem problem;
     for (int k : inlier_indices) {
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SphereEpipolarResidual, 1, 4, 3>(
-              new SphereEpipolarResidual(bearings_i[k], bearings_j[k])),
-          new ceres::HuberLoss(options.inlier_threshold_rad), quaternion_wxyz, translation);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SphereEpipolarResidual, 1, 4, 3>(
+                                   new SphereEpipolarResidual(bearings_i[k], bearings_j[k])),
+                               new ceres::HuberLoss(options.inlier_threshold_rad), quaternion_wxyz,
+                               translation);
     }
     problem.SetManifold(quaternion_wxyz, new ceres::QuaternionManifold);
     problem.SetManifold(translation, new ceres::SphereManifold<3>);
@@ -220,13 +218,12 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);
     if (summary.IsSolutionUsable()) {
-      result.rotation =
-          Eigen::Quaterniond(quaternion_wxyz[0], quaternion_wxyz[1], quaternion_wxyz[2],
-                             quaternion_wxyz[3])
-              .normalized()
-              .toRotationMatrix();
-      result.translation = Eigen::Vector3d(translation[0], translation[1], translation[2])
-                               .normalized();
+      result.rotation = Eigen::Quaterniond(quaternion_wxyz[0], quaternion_wxyz[1],
+                                           quaternion_wxyz[2], quaternion_wxyz[3])
+                            .normalized()
+                            .toRotationMatrix();
+      result.translation =
+          Eigen::Vector3d(translation[0], translation[1], translation[2]).normalized();
       result.essential = Skew(result.translation) * result.rotation;
       CountInliers(result.essential, bearings_i, bearings_j, options.inlier_threshold_rad,
                    &result.inliers, &result.num_inliers);

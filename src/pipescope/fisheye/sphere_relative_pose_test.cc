@@ -111,8 +111,8 @@ TEST(SphereRelativePoseTest, LinearEssentialSatisfiesEpipolarConstraintAndDecomp
   }
   Eigen::Matrix3d rotation;
   Eigen::Vector3d translation;
-  const int positive = DecomposeEssentialOnSphere(essential, scene.bearings_i, scene.bearings_j,
-                                                  {}, &rotation, &translation);
+  const int positive = DecomposeEssentialOnSphere(essential, scene.bearings_i, scene.bearings_j, {},
+                                                  &rotation, &translation);
   EXPECT_EQ(positive, static_cast<int>(indices.size()));
   EXPECT_LT(AngleDeg(rotation, scene.rotation), 1e-6);
   // The midpoint depths reproduce the point at the true scale.

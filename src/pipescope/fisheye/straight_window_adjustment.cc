@@ -6,18 +6,12 @@
 #include <cmath>
 
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
+#include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/straight_cylinder_error.h"
 #include "pipescope/util/timer.h"
 
 namespace pipescope {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 Eigen::Vector2d Residual(const Camera& camera, const StraightWindow& window,
                          const WindowObservation& observation) {
@@ -66,9 +60,9 @@ WindowPose WindowPose::FromIsometry(const Eigen::Isometry3d& cam_from_world) {
 
 Eigen::Isometry3d WindowPose::ToIsometry() const {
   Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
-  result.linear() =
-      Eigen::Quaterniond(rotation[0], rotation[1], rotation[2], rotation[3]).normalized()
-          .toRotationMatrix();
+  result.linear() = Eigen::Quaterniond(rotation[0], rotation[1], rotation[2], rotation[3])
+                        .normalized()
+                        .toRotationMatrix();
   result.translation() = Eigen::Vector3d(translation[0], translation[1], translation[2]);
   return result;
 }
@@ -79,8 +73,7 @@ double FitStraightCylinder(const StraightWindowOptions& options, StraightWindow*
   for (Eigen::Vector3d& point : window->points) {
     problem.AddResidualBlock(StraightCylinderError::Create(options.radius_m, 1.0),
                              new ceres::HuberLoss(0.01), window->cylinder,
-                             window->poses[0].rotation, window->poses[0].translation,
-                             point.data());
+                             window->poses[0].rotation, window->poses[0].translation, point.data());
     problem.SetParameterBlockConstant(point.data());
   }
   problem.SetParameterBlockConstant(window->poses[0].rotation);

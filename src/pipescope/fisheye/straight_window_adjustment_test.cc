@@ -66,8 +66,8 @@ SyntheticWindow MakeWindow(std::uint64_t seed) {
                                      0.003 * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
       world_from_cam.linear() =
           world_from_cam.linear() *
-          Eigen::AngleAxisd(0.005, Eigen::Vector3d(normal(rng), normal(rng), normal(rng))
-                                       .normalized())
+          Eigen::AngleAxisd(0.005,
+                            Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized())
               .toRotationMatrix();
     }
     s.window.poses.push_back(WindowPose::FromIsometry(world_from_cam.inverse()));

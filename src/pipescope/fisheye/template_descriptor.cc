@@ -34,7 +34,8 @@ std::vector<FeatureMatch> MatchByCosineSimilarity(const cv::Mat& descriptors_a,
   std::vector<float> best_ab(na, -2.f);
   std::vector<int> best_a(nb, -1);
   std::vector<float> best_ba(nb, -2.f);
-  const float max_d2 = static_cast<float>(options.max_displacement_px * options.max_displacement_px);
+  const float max_d2 =
+      static_cast<float>(options.max_displacement_px * options.max_displacement_px);
   const int dim = descriptors_a.cols;
   for (int a = 0; a < na; ++a) {
     const float* da = descriptors_a.ptr<float>(a);

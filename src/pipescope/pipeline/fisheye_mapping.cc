@@ -4,11 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <unordered_map>
 
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
+#include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/util/progress.h"
@@ -28,13 +27,6 @@ struct Track {
   bool has_point = false;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
 };
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 double ReprojectionErrorPx(const Camera& camera, const Eigen::Isometry3d& cam_from_world,
                            const Eigen::Vector3d& point, const Eigen::Vector2d& observed) {
@@ -139,20 +131,15 @@ class KeyframeOdometry {
       if (track.has_point) {
         points.push_back(track.point);
         pixels.emplace_back(feature.pixel.x, feature.pixel.y);
-        const double parallax =
-            std::acos(std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing),
-                                 -1.0, 1.0));
-        if (triangulated && depth_i > 0 && depth_j > 0 && parallax > 0.005) {
+        const double parallax = std::acos(
+            std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
+        if (triangulated && depth_i > 0 && depth_j > 0 &&
+            parallax > options_.min_scale_parallax_rad) {
           ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
         }
       } else if (triangulated && depth_i > 0 && depth_j > 0) {
         radial.push_back(std::hypot(unit_point.x(), unit_point.y()));
       }
-    }
-    if (std::getenv("PIPESCOPE_FISHEYE_DEBUG")) {
-      std::fprintf(stderr, "kf %d rot %.3f deg t %.3f %.3f %.3f inl %d ratios %zu radial %zu\n", k,
-                   Eigen::AngleAxisd(rotation).angle() * 180 / M_PI, direction.x(), direction.y(),
-                   direction.z(), keyframe.relative_pose.num_inliers, ratios.size(), radial.size());
     }
     double scale = last_scale_;
     if (ratios.size() >= 5) {
@@ -239,7 +226,8 @@ class KeyframeOdometry {
     record.cylinder = cylinder;
     record.summary = OptimiseStraightWindow(camera_, window_options, &window);
     for (int k = first; k <= last; ++k) cam_from_world_[k] = window.poses[k - first].ToIsometry();
-    for (std::size_t p = 0; p < window_tracks.size(); ++p) window_tracks[p]->point = window.points[p];
+    for (std::size_t p = 0; p < window_tracks.size(); ++p)
+      window_tracks[p]->point = window.points[p];
     result_->windows.push_back(record);
   }
 
@@ -256,8 +244,7 @@ class KeyframeOdometry {
 void BuildSections(FisheyeMappingResult* result) {
   for (int k = 0; k < static_cast<int>(result->keyframes.size()); ++k) {
     FisheyeKeyframe& keyframe = result->keyframes[k];
-    if (result->sections.empty() ||
-        result->sections.back().view_class != keyframe.filtered_class) {
+    if (result->sections.empty() || result->sections.back().view_class != keyframe.filtered_class) {
       result->sections.push_back({k, k, keyframe.filtered_class});
     }
     result->sections.back().last_keyframe = k;
@@ -346,10 +333,12 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   result.unreadable_frames = source->skipped_frames();
 
   std::vector<PipeViewClass> initial;
-  for (const FisheyeKeyframe& keyframe : result.keyframes) initial.push_back(keyframe.initial_class);
+  for (const FisheyeKeyframe& keyframe : result.keyframes)
+    initial.push_back(keyframe.initial_class);
   const std::vector<PipeViewClass> filtered =
       FilterPipeViewClasses(initial, options.min_cluster_size);
-  for (std::size_t k = 0; k < filtered.size(); ++k) result.keyframes[k].filtered_class = filtered[k];
+  for (std::size_t k = 0; k < filtered.size(); ++k)
+    result.keyframes[k].filtered_class = filtered[k];
   BuildSections(&result);
 
   const Timer odometry_timer;
