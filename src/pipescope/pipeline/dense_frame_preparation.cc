@@ -65,14 +65,32 @@ cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor) {
   return WeightedBlockMean(image, cv::Mat(), factor);
 }
 
+namespace {
+
+void RequireFactor(int factor) {
+  if (factor < 1 || factor > 16) {
+    throw InputError("downsample: must be an integer in 1..16, got " + std::to_string(factor));
+  }
+}
+
+}  // namespace
+
+cv::Size PreparedFrameSize(const Camera& camera, int factor) {
+  RequireFactor(factor);
+  return {camera.Width() / factor, camera.Height() / factor};
+}
+
+cv::Point2d PreparedFramePrincipalPoint(const Camera& camera, int factor) {
+  RequireFactor(factor);
+  const cv::Point2d full = PrincipalPoint(camera);
+  return {(full.x + 0.5) / factor - 0.5, (full.y + 0.5) / factor - 0.5};
+}
+
 DenseFramePreparation::DenseFramePreparation(const Camera& camera, const cv::Mat& gain_mask,
                                              const DenseFrameOptions& options,
                                              const LineStretch& stretch)
     : undistorter_(camera, stretch), options_(options) {
-  if (options.downsample < 1 || options.downsample > 16) {
-    throw InputError("downsample: must be an integer in 1..16, got " +
-                     std::to_string(options.downsample));
-  }
+  RequireFactor(options.downsample);
   if (!gain_mask.empty() &&
       (gain_mask.cols != camera.Width() || gain_mask.rows != camera.Height())) {
     throw InputError("gain_mask: the mask is " + std::to_string(gain_mask.cols) + "x" +
@@ -83,17 +101,6 @@ DenseFramePreparation::DenseFramePreparation(const Camera& camera, const cv::Mat
     correction_ = GainCorrectionFactors(gain_mask);
     rectified_correction_ = undistorter_.Apply(correction_);
   }
-}
-
-cv::Size DenseFramePreparation::PreparedSize() const {
-  const Camera& camera = undistorter_.rectified_camera();
-  return {camera.Width() / options_.downsample, camera.Height() / options_.downsample};
-}
-
-cv::Point2d DenseFramePreparation::PreparedPrincipalPoint() const {
-  const cv::Point2d full = PrincipalPoint(undistorter_.rectified_camera());
-  const double factor = options_.downsample;
-  return {(full.x + 0.5) / factor - 0.5, (full.y + 0.5) / factor - 0.5};
 }
 
 cv::Mat DenseFramePreparation::Prepare(const cv::Mat& grey) const {

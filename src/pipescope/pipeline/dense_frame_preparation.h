@@ -25,6 +25,13 @@ cv::Mat WeightedBlockMean(const cv::Mat& image, const cv::Mat& weight, int facto
 // The plain block mean: WeightedBlockMean without weights; `factor` 1 returns `image` itself.
 cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor);
 
+// The prepared frames' size and principal point for `camera` downsampled by `factor` (the
+// rectified camera keeps the camera's size and principal point; the block mean maps a
+// full-resolution pixel x to (x + 0.5) / factor - 0.5). Known before any tables are built, so
+// a pipeline can choose its band first. Throws InputError when the factor is not in 1..16.
+cv::Size PreparedFrameSize(const Camera& camera, int factor);
+cv::Point2d PreparedFramePrincipalPoint(const Camera& camera, int factor);
+
 class DenseFramePreparation {
  public:
   // `gain_mask` may be empty (no correction); `stretch` resamples the undistorted image line by
@@ -44,14 +51,12 @@ class DenseFramePreparation {
   // dense-unrolled, which resamples the distorted frame itself). Same `grey` as Prepare().
   cv::Mat CorrectAndDownsample(const cv::Mat& grey) const;
 
-  // The reference scale at the prepared frames' resolution: zeta / downsample.
-  double ScaleAtPreparedResolution(double zeta_px_per_m) const {
-    return zeta_px_per_m / options_.downsample;
+  cv::Point2d PreparedPrincipalPoint() const {
+    return PreparedFramePrincipalPoint(undistorter_.rectified_camera(), options_.downsample);
   }
-  // The principal point of the prepared frames, in their pixels (the downsampling maps a
-  // full-resolution pixel x to (x + 0.5) / factor - 0.5).
-  cv::Point2d PreparedPrincipalPoint() const;
-  cv::Size PreparedSize() const;
+  cv::Size PreparedSize() const {
+    return PreparedFrameSize(undistorter_.rectified_camera(), options_.downsample);
+  }
   int downsample() const { return options_.downsample; }
 
  private:

@@ -128,10 +128,10 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
   const cv::Mat gain_mask =
       manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
-  DenseFramePreparation preparation(camera, gain_mask, options.frames);
-  const double zeta_prepared = preparation.ScaleAtPreparedResolution(zeta);
-  const cv::Point2d principal_point = preparation.PreparedPrincipalPoint();
-  const cv::Size prepared_size = preparation.PreparedSize();
+  const double zeta_prepared = zeta / options.frames.downsample;
+  const cv::Point2d principal_point =
+      PreparedFramePrincipalPoint(camera, options.frames.downsample);
+  const cv::Size prepared_size = PreparedFrameSize(camera, options.frames.downsample);
   // The band of the prepared frame the planar methods register.
   const bool along_image_x = options.mount.axis_along_pipe.find('x') != std::string::npos;
   cv::Rect band(cv::Point(0, 0), prepared_size);
@@ -154,6 +154,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   // The planar methods' frames resampled so that every line of the band moves at the same rate
   // along the pipe, axial_ratio * zeta (pipeline/foreshortening.h).
   double axial_ratio = 1.0;
+  LineStretch stretch;
   if (!on_unrolled_wall && options.foreshortening_correction && radius > 0.0) {
     const int factor = options.frames.downsample;
     const std::vector<double> ratios = WallDepthRatios(
@@ -163,8 +164,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         EqualiseAxialScale(ratios, factor * (along_image_x ? band.y : band.x),
                            factor * (along_image_x ? band.height : band.width), along_image_x);
     axial_ratio = equalisation.axial_ratio;
-    preparation = DenseFramePreparation(camera, gain_mask, options.frames, equalisation.stretch);
+    stretch = equalisation.stretch;
   }
+  const DenseFramePreparation preparation(camera, gain_mask, options.frames, stretch);
   std::unique_ptr<UnrolledWallRegistration> unrolled;
   if (on_unrolled_wall) {
     // Cells of the prepared frames' pixel footprint on the wall the camera faces.
@@ -193,11 +195,12 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     cv::Point2d content_offset;       // the image mosaic's
   };
   std::optional<KeyFrame> key;
-  // The previous frame's motion from the key frame, and the last good per-frame motion.
+  // The previous frame's motion from the key frame, and the last good frame's motion from the
+  // frame before with its time step (0: none yet), for the constant-velocity prediction.
   cv::Point2d previous_shift(0.0, 0.0);
   double previous_rotation = 0.0;
-  std::optional<PairMotion> velocity;
-  double velocity_dt = 0.0;
+  cv::Point2d velocity_shift(0.0, 0.0);
+  double velocity_rotation = 0.0, velocity_dt = 0.0;
   double previous_timestamp = 0.0;
   const double key_shift_x =
       options.key_frame_window_fraction * options.registration.full_search.max_shift_x_px;
@@ -224,14 +227,15 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     record.timestamp = frame->timestamp;
     record.name = frame->name;
     Eigen::Isometry3d pose = start;
+    double travel = 0.0, roll = 0.0;  // dense-unrolled's state
     cv::Point2d content_offset(0.0, 0.0);
     bool new_key = true;
     if (key) {
       const double dt = frame->timestamp - previous_timestamp;
       // Constant velocity: the last good frame's motion, scaled to this time step.
-      const double ratio = velocity && velocity_dt > 0.0 ? dt / velocity_dt : 0.0;
-      const cv::Point2d step = velocity ? velocity->shift * ratio : cv::Point2d(0.0, 0.0);
-      const double step_rotation = velocity ? velocity->rotation_rad * ratio : 0.0;
+      const double ratio = velocity_dt > 0.0 ? dt / velocity_dt : 0.0;
+      const cv::Point2d step = velocity_shift * ratio;
+      const double step_rotation = velocity_rotation * ratio;
       PairMotion motion;
       if (saturated > options.max_saturated_fraction) {
         motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
@@ -244,9 +248,8 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                                     previous_shift + step);
       }
       if (motion.failure.empty()) {
-        velocity = motion;
-        velocity->shift = motion.shift - previous_shift;
-        velocity->rotation_rad = motion.rotation_rad - previous_rotation;
+        velocity_shift = motion.shift - previous_shift;
+        velocity_rotation = motion.rotation_rad - previous_rotation;
         velocity_dt = dt;
       } else {
         ++result.failed_pairs;
@@ -259,8 +262,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       record.still = motion.still;
       record.failure = motion.failure;
       if (on_unrolled_wall) {
-        pose = PipeAxisMotion(start, key->travel + unrolled->TravelFromShift(motion.shift),
-                              key->roll + unrolled->RollFromShift(motion.shift));
+        travel = key->travel + unrolled->TravelFromShift(motion.shift);
+        roll = key->roll + unrolled->RollFromShift(motion.shift);
+        pose = PipeAxisMotion(start, travel, roll);
       } else {
         cv::Point2d metric_shift = motion.shift;
         (along_image_x ? metric_shift.x : metric_shift.y) /= axial_ratio;
@@ -274,12 +278,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       previous_rotation = motion.rotation_rad;
     }
     if (new_key) {
-      KeyFrame next_key{current, pose, 0.0, 0.0, content_offset};
-      if (on_unrolled_wall) {
-        next_key.travel = (key ? key->travel + unrolled->TravelFromShift(previous_shift) : 0.0);
-        next_key.roll = (key ? key->roll + unrolled->RollFromShift(previous_shift) : 0.0);
-      }
-      key = std::move(next_key);
+      key = KeyFrame{current, pose, travel, roll, content_offset};
       previous_shift = cv::Point2d(0.0, 0.0);
       previous_rotation = 0.0;
     }
