@@ -74,6 +74,7 @@ int RunOdometry(const OdometryFlags& flags) {
   report.AddTiming("odometry_reading", result.reading_seconds);
   report.AddTiming("odometry_preparing", result.preparing_seconds);
   report.AddTiming("odometry_registering", result.registering_seconds);
+  report.AddTiming("odometry_loop_cpu", result.loop_cpu_seconds);
   report.Extra("failed_frames") = FailedFramesJson(result);
   report.Extra("unreadable_frames") = result.skipped_frames;
   if (result.failed_pairs > 0) {

@@ -270,16 +270,20 @@ struct Level {
 // move with the content. A window fixed to the frame weights the content of the two images
 // differently and pulls the peak towards zero shift, by about 0.2 % of the shift with a Hann
 // window. Without it, or when the overlap is too small: one correlation of the whole images.
+// `known_estimate`: the first pass's result when the caller has it already.
 Peak EstimateTranslation(const cv::Mat& reference, const cv::Mat& next, int coarse_level,
                          const Level* coarse, std::optional<Level>* full,
-                         const PhaseCorrelationOptions& options) {
+                         const PhaseCorrelationOptions& options,
+                         std::optional<cv::Point2d> known_estimate = std::nullopt) {
   auto whole_images = [&] {
     if (!full->has_value()) full->emplace(next, options);
     return FindPeak((*full)->With(reference), options.peak_method);
   };
   if (!options.refine_on_overlap) return whole_images();
   cv::Point2d estimate;
-  if (coarse_level > 0) {
+  if (known_estimate) {
+    estimate = *known_estimate;
+  } else if (coarse_level > 0) {
     const cv::Mat reference_coarse = BuildGaussianPyramid(reference, coarse_level + 1).back();
     estimate = FindPeak(coarse->With(reference_coarse), PhasePeakMethod::kParabolic).position *
                static_cast<double>(1 << coarse_level);
@@ -305,6 +309,51 @@ Peak EstimateTranslation(const cv::Mat& reference, const cv::Mat& next, int coar
   return fine;
 }
 
+// The rotation left between the rotated reference and `next`, whose translation is about
+// `shift` (whole pixels), and the translation that goes with it: the two halves of their
+// overlap, split across its longer side, are registered on their own. A rotation by d about the
+// image centre c and a translation t move content at w by about d J (w - c) + t,
+// J = [0, -1; 1, 0], so the halves' shifts s_1, s_2 at their centres w_1, w_2 differ by
+// d J (w_2 - w_1), and t = (s_1 + s_2) / 2 - d J ((w_1 + w_2) / 2 - c). Their translations are
+// known to a few hundredths of a pixel, so this measures d far better than the peak height's
+// fall-off with angle, which is flat at the top. Empty when the halves are too small to
+// register or disagree by more than a pixel and a half from `shift`.
+struct RigidResidual {
+  double rotation_rad;
+  cv::Point2d shift;
+};
+
+std::optional<RigidResidual> SplitOverlapResidual(const cv::Mat& reference, const cv::Mat& next,
+                                                  cv::Point shift,
+                                                  const PhaseCorrelationOptions& options) {
+  const cv::Rect overlap(std::max(0, -shift.x), std::max(0, -shift.y),
+                         reference.cols - std::abs(shift.x), reference.rows - std::abs(shift.y));
+  const bool split_x = overlap.width >= overlap.height;
+  const cv::Size half_size = split_x ? cv::Size(overlap.width / 2, overlap.height)
+                                     : cv::Size(overlap.width, overlap.height / 2);
+  if (half_size.width < 16 || half_size.height < 16) return std::nullopt;
+  const cv::Point step = split_x ? cv::Point(overlap.width - half_size.width, 0)
+                                 : cv::Point(0, overlap.height - half_size.height);
+  cv::Point2d local_shift[2], centre[2];
+  for (int half = 0; half < 2; ++half) {
+    const cv::Rect area(overlap.tl() + half * step, half_size);
+    const Level level(next(area + shift), options);
+    const Peak fine = FindPeak(level.With(reference(area)), options.peak_method);
+    if (std::hypot(fine.position.x, fine.position.y) > 1.5) return std::nullopt;
+    local_shift[half] = fine.position + cv::Point2d(shift);
+    centre[half] = cv::Point2d(area.x + 0.5 * (area.width - 1), area.y + 0.5 * (area.height - 1));
+  }
+  auto perpendicular = [](cv::Point2d v) { return cv::Point2d(-v.y, v.x); };  // J v
+  const cv::Point2d d = centre[1] - centre[0];
+  RigidResidual residual;
+  residual.rotation_rad = perpendicular(d).dot(local_shift[1] - local_shift[0]) / d.dot(d);
+  const cv::Point2d image_centre(0.5 * (reference.cols - 1), 0.5 * (reference.rows - 1));
+  const cv::Point2d middle = 0.5 * (centre[0] + centre[1]);
+  residual.shift = 0.5 * (local_shift[0] + local_shift[1]) -
+                   residual.rotation_rad * perpendicular(middle - image_centre);
+  return residual;
+}
+
 // The coarse pyramid level of PhaseCorrelationOptions::coarse_level_min_size_px: by the longer
 // side, so that a wide band (160x60) gets one too.
 int CoarseLevel(cv::Size size, int min_longer_side_px) {
@@ -323,7 +372,8 @@ int CoarseLevel(cv::Size size, int min_longer_side_px) {
 }  // namespace
 
 PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const cv::Mat& next,
-                                                const PhaseCorrelationOptions& options) {
+                                                const PhaseCorrelationOptions& options,
+                                                double rotation_prior_rad) {
   cv::Mat r, n;
   PrepareRegistrationPair(reference, next, "phase correlation", &r, &n);
   const int coarse_level = CoarseLevel(r.size(), options.coarse_level_min_size_px);
@@ -340,39 +390,85 @@ PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const 
     return result;
   }
 
-  // Rotation search (003 eq. 7), scored by the height of the (parabolic) peak: every step of the
+  // Rotation search (003 eq. 7), scored by the height of the (parabolic) peak: whole steps of the
   // range on the coarse level, where each correlation is cheap and the peak falls off more
-  // gently with angle, then parabolic refinements at full resolution.
+  // gently with angle; then the split-overlap correction (or parabolic refinements at full
+  // resolution) for the sub-step angle.
   auto score = [](const Level& level, const cv::Mat& reference_level, double angle) {
     return FindPeak(level.With(RotateAboutCentre(reference_level, angle)),
-                    PhasePeakMethod::kParabolic)
-        .height;
+                    PhasePeakMethod::kParabolic);
   };
   const cv::Mat r_coarse = BuildGaussianPyramid(r, coarse_level + 1).back();
-  if (!full.has_value()) full.emplace(n, options);
+  if (coarse_level == 0 || options.rotation_refinements > 0) full.emplace(n, options);
   const Level& search_level = coarse_level > 0 ? *coarse : *full;
   const double step = std::max(1e-6, options.rotation_step_rad);
   const int steps = std::max(0, static_cast<int>(std::floor(options.max_rotation_rad / step)));
-  std::vector<double> scores;
-  for (int k = -steps; k <= steps; ++k) scores.push_back(score(search_level, r_coarse, k * step));
-  const int best =
-      static_cast<int>(std::max_element(scores.begin(), scores.end()) - scores.begin());
-  double angle = (best - steps) * step;
+  // The peaks of the whole steps k * step, k in -steps ... steps, each computed once.
+  std::vector<std::optional<Peak>> peaks(2 * steps + 1);
+  auto peak_of_step = [&](int k) -> const Peak& {
+    std::optional<Peak>& cached = peaks[k + steps];
+    if (!cached) cached = score(search_level, r_coarse, k * step);
+    return *cached;
+  };
+  auto score_of_step = [&](int k) { return peak_of_step(k).height; };
+  int best = 0;  // the best step so far
+  if (options.rotation_from_prior) {
+    // Climb from the predicted angle to the nearest maximum: a few correlations instead of the
+    // whole range, since a pair's rotation changes little from the last one's.
+    best = static_cast<int>(
+        std::lround(std::clamp(rotation_prior_rad / step, -1.0 * steps, 1.0 * steps)));
+    for (;;) {
+      const double here = score_of_step(best);
+      const double left = best > -steps ? score_of_step(best - 1) : -1.0;
+      const double right = best < steps ? score_of_step(best + 1) : -1.0;
+      if (left > here && left >= right) {
+        --best;
+      } else if (right > here) {
+        ++best;
+      } else {
+        break;
+      }
+    }
+  }
+  // The whole range when there is no prior, or the climb ended on a weak peak: a maximum of the
+  // noise, or a prior far from this pair's rotation.
+  if (!options.rotation_from_prior || score_of_step(best) < options.rotation_search_min_peak) {
+    for (int k = -steps; k <= steps; ++k) {
+      if (score_of_step(k) > score_of_step(best)) best = k;
+    }
+  }
+  double angle = best * step;
   double offset, height;
-  if (best > 0 && best + 1 < static_cast<int>(scores.size())) {
-    ParabolaVertex(scores[best - 1], scores[best], scores[best + 1], &offset, &height);
+  if (best > -steps && best < steps) {
+    ParabolaVertex(score_of_step(best - 1), score_of_step(best), score_of_step(best + 1), &offset,
+                   &height);
     angle += offset * step;
   }
   double spacing = step;
   for (int refinement = 0; refinement < options.rotation_refinements; ++refinement) {
     spacing *= 0.5;
-    ParabolaVertex(score(*full, r, angle - spacing), score(*full, r, angle),
-                   score(*full, r, angle + spacing), &offset, &height);
+    ParabolaVertex(score(*full, r, angle - spacing).height, score(*full, r, angle).height,
+                   score(*full, r, angle + spacing).height, &offset, &height);
     angle += offset * spacing;
   }
   angle = std::clamp(angle, -steps * step, steps * step);
-  const Peak peak = EstimateTranslation(RotateAboutCentre(r, angle), n, coarse_level,
-                                        coarse ? &*coarse : nullptr, &full, options);
+  // The best step's correlation already holds the integer shift (within a step of the angle).
+  const std::optional<cv::Point2d> coarse_shift =
+      coarse_level > 0 ? std::optional<cv::Point2d>(peak_of_step(best).position *
+                                                    static_cast<double>(1 << coarse_level))
+                       : std::nullopt;
+  Peak peak = EstimateTranslation(RotateAboutCentre(r, angle), n, coarse_level,
+                                  coarse ? &*coarse : nullptr, &full, options, coarse_shift);
+  for (int iteration = 0; iteration < options.split_rotation_iterations; ++iteration) {
+    const cv::Point shift(static_cast<int>(std::lround(peak.position.x)),
+                          static_cast<int>(std::lround(peak.position.y)));
+    const std::optional<RigidResidual> residual =
+        SplitOverlapResidual(RotateAboutCentre(r, angle), n, shift, options);
+    if (!residual || std::abs(residual->rotation_rad) > step) break;
+    angle = std::clamp(angle + residual->rotation_rad, -steps * step, steps * step);
+    peak = EstimateTranslation(RotateAboutCentre(r, angle), n, coarse_level,
+                               coarse ? &*coarse : nullptr, &full, options, residual->shift);
+  }
   result.shift = peak.position;
   result.rotation_rad = angle;
   result.peak = peak.height;

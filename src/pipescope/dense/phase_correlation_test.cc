@@ -67,9 +67,27 @@ TEST(PhaseCorrelation, RecoversRotation) {
         MakeRegistrationPair({256, 192}, shift, angle_deg * kDeg, 1.0, ++seed);
     const PhaseCorrelationResult result =
         RegisterPhaseCorrelation(pair.reference, pair.next, options);
-    EXPECT_NEAR(result.rotation_rad / kDeg, angle_deg, 0.1);
+    EXPECT_NEAR(result.rotation_rad / kDeg, angle_deg, 0.03);
     EXPECT_LE(Distance(result.shift, shift), 0.1) << angle_deg << result.shift;
     EXPECT_GT(result.peak, 0.2);
+  }
+}
+
+// The search climbs from the prior; a prior on the wrong side of the range still ends on the
+// pair's rotation, as the scan of the whole range does.
+TEST(PhaseCorrelation, RotationSearchFromAFarPriorFindsTheAngle) {
+  const cv::Point2d shift(-3.2, 1.7);
+  const RegistrationPair pair = MakeRegistrationPair({256, 96}, shift, -6.7 * kDeg, 1.0, 31);
+  PhaseCorrelationOptions options;
+  options.estimate_rotation = true;
+  for (const bool from_prior : {true, false}) {
+    options.rotation_from_prior = from_prior;
+    for (const double prior_deg : {-6.0, 0.0, 9.0}) {
+      const PhaseCorrelationResult result =
+          RegisterPhaseCorrelation(pair.reference, pair.next, options, prior_deg * kDeg);
+      EXPECT_NEAR(result.rotation_rad / kDeg, -6.7, 0.05) << from_prior << " " << prior_deg;
+      EXPECT_LE(Distance(result.shift, shift), 0.15) << from_prior << " " << prior_deg;
+    }
   }
 }
 

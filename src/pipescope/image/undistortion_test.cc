@@ -5,6 +5,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pipescope/util/error.h"
+
 namespace pipescope {
 namespace {
 
@@ -27,6 +29,60 @@ TEST(Undistorter, MatchesOpenCvForPinholeRadtan) {
     }
   }
   EXPECT_DOUBLE_EQ(undistorter.rectified_camera().Params()[0], 300.0);
+}
+
+// Tables for block-averaged images are OpenCV's tables of the camera scaled to the block grid:
+// a full-resolution pixel x is block pixel (x + 0.5) / factor - 0.5, so the focal lengths divide
+// by the factor and the principal point moves with that affine map (the distortion coefficients
+// act on normalised coordinates and stay).
+TEST(Undistorter, DownsampledTablesMatchOpenCvAtTheBlockResolution) {
+  const Camera camera(CameraModelId::kPinholeRadtan, 320, 240,
+                      {300.0, 302.0, 161.3, 118.7, -0.21, 0.06, 4e-4, -3e-4, 0.01});
+  for (const int factor : {2, 4, 5}) {
+    const Undistorter undistorter(camera, {.downsample = factor});
+    auto block = [factor](double full) { return (full + 0.5) / factor - 0.5; };
+    const cv::Matx33d k(300.0 / factor, 0, block(161.3), 0, 302.0 / factor, block(118.7), 0, 0, 1);
+    const cv::Matx33d new_k(300.0 / factor, 0, block(161.3), 0, 300.0 / factor, block(118.7), 0, 0,
+                            1);
+    const cv::Size size(320 / factor, 240 / factor);
+    cv::Mat map_x, map_y;
+    cv::initUndistortRectifyMap(k, std::vector<double>{-0.21, 0.06, 4e-4, -3e-4, 0.01},
+                                cv::Matx33d::eye(), new_k, size, CV_32FC1, map_x, map_y);
+    for (int y = 0; y < size.height; ++y) {
+      for (int x = 0; x < size.width; ++x) {
+        const cv::Point2f ours = undistorter.SourcePixel(x, y);
+        ASSERT_NEAR(ours.x, map_x.at<float>(y, x), 2e-3) << factor << ": " << x << "," << y;
+        ASSERT_NEAR(ours.y, map_y.at<float>(y, x), 2e-3) << factor << ": " << x << "," << y;
+      }
+    }
+    const cv::Mat image(size, CV_8U, cv::Scalar(7));
+    EXPECT_EQ(undistorter.Apply(image).size(), size);
+  }
+  EXPECT_THROW(Undistorter(camera, {.downsample = 0}), InputError);
+}
+
+// With an odd factor every block centre is a full-resolution pixel, so the block tables are the
+// full tables sampled there and moved to block coordinates, stretch included.
+TEST(Undistorter, DownsampledTablesSampleTheFullTablesAtBlockCentres) {
+  const Camera camera(CameraModelId::kKannalaBrandt, 320, 240,
+                      {200.0, 201.0, 159.5, 120.5, 0.02, -0.01, 0.003, -0.001});
+  for (const bool along_x : {true, false}) {
+    LineStretch stretch;
+    stretch.along_x = along_x;
+    for (int line = 0; line < (along_x ? 240 : 320); ++line) {
+      stretch.factors.push_back(0.9 + 0.2 * line / 320.0);
+    }
+    const Undistorter full(camera, {.stretch = stretch});
+    const Undistorter blocks(camera, {.stretch = stretch, .downsample = 5});
+    for (int y = 0; y < 240 / 5; ++y) {
+      for (int x = 0; x < 320 / 5; ++x) {
+        const cv::Point2f expected = full.SourcePixel(5 * x + 2, 5 * y + 2);
+        const cv::Point2f ours = blocks.SourcePixel(x, y);
+        ASSERT_NEAR(ours.x, (expected.x + 0.5) / 5.0 - 0.5, 1e-4) << x << "," << y;
+        ASSERT_NEAR(ours.y, (expected.y + 0.5) / 5.0 - 0.5, 1e-4) << x << "," << y;
+      }
+    }
+  }
 }
 
 TEST(Undistorter, MatchesOpenCvForKannalaBrandt) {

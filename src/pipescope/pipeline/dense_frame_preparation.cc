@@ -89,7 +89,10 @@ cv::Point2d PreparedFramePrincipalPoint(const Camera& camera, int factor) {
 DenseFramePreparation::DenseFramePreparation(const Camera& camera, const cv::Mat& gain_mask,
                                              const DenseFrameOptions& options,
                                              const LineStretch& stretch)
-    : undistorter_(camera, stretch), options_(options) {
+    : undistorter_(
+          camera,
+          {.stretch = stretch, .downsample = options.downsample, .interpolation = cv::INTER_CUBIC}),
+      options_(options) {
   RequireFactor(options.downsample);
   if (!gain_mask.empty() &&
       (gain_mask.cols != camera.Width() || gain_mask.rows != camera.Height())) {
@@ -97,16 +100,11 @@ DenseFramePreparation::DenseFramePreparation(const Camera& camera, const cv::Mat
                      std::to_string(gain_mask.rows) + " but the camera is " +
                      std::to_string(camera.Width()) + "x" + std::to_string(camera.Height()));
   }
-  if (!gain_mask.empty()) {
-    correction_ = GainCorrectionFactors(gain_mask);
-    rectified_correction_ = undistorter_.Apply(correction_);
-  }
+  if (!gain_mask.empty()) correction_ = GainCorrectionFactors(gain_mask);
 }
 
 cv::Mat DenseFramePreparation::Prepare(const cv::Mat& grey) const {
-  const auto scale = static_cast<float>(GreyLevelsPerUnit(grey.depth()));
-  return WeightedBlockMean(undistorter_.Apply(grey), rectified_correction_, options_.downsample,
-                           scale);
+  return undistorter_.Apply(CorrectAndDownsample(grey));
 }
 
 cv::Mat DenseFramePreparation::CorrectAndDownsample(const cv::Mat& grey) const {

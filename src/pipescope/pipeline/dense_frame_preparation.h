@@ -42,13 +42,18 @@ class DenseFramePreparation {
 
   // `grey`: one channel, the camera's size, CV_8U, CV_16U (scaled to 8-bit grey levels) or
   // CV_32F in 8-bit grey levels. Returns the gain-corrected, undistorted, downsampled frame
-  // (CV_32F). The frame is undistorted in its own depth and then gain-corrected with the
-  // undistorted correction factors, in the block mean's pass: the mask is smooth (000 §3.2), so
-  // this equals correcting first to well under a grey level, at a fraction of the cost.
+  // (CV_32F). 000 §4.2's order with the last two steps swapped: the frame is gain-corrected and
+  // block-averaged in one pass, and the block means are undistorted with tables built for that
+  // resolution, so the remap touches downsample^2 times fewer pixels. The distortion is smooth
+  // over a block, so this differs from undistorting first only by the low-resolution resampling,
+  // bicubic so that it blurs the block means' detail little. Measured on the short steel-16in
+  // run of dense_vo_test: bilinear here moved dense-hybrid's error from 0.008 % to 0.038 %,
+  // bicubic gives 0.013 %.
   cv::Mat Prepare(const cv::Mat& grey) const;
 
-  // The gain-corrected frame box-filtered by the factor without undistortion (the input of
-  // dense-unrolled, which resamples the distorted frame itself). Same `grey` as Prepare().
+  // The gain-corrected frame box-filtered by the factor without undistortion (Prepare()'s first
+  // pass, and the input of dense-unrolled, which resamples the distorted frame itself). Same
+  // `grey` as Prepare().
   cv::Mat CorrectAndDownsample(const cv::Mat& grey) const;
 
   cv::Point2d PreparedPrincipalPoint() const {
@@ -61,8 +66,7 @@ class DenseFramePreparation {
 
  private:
   Undistorter undistorter_;
-  cv::Mat correction_;            // gain correction factors, empty without a mask
-  cv::Mat rectified_correction_;  // the same, undistorted; 0 where the camera sees nothing
+  cv::Mat correction_;  // gain correction factors, empty without a mask
   DenseFrameOptions options_;
 };
 

@@ -80,7 +80,8 @@ double OverlapCorrelation(const cv::Mat& reference, const cv::Mat& next, cv::Poi
 }
 
 PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, const cv::Mat& next,
-                              const PairRegistrationOptions& options, cv::Point2d predicted_shift) {
+                              const PairRegistrationOptions& options, cv::Point2d predicted_shift,
+                              double predicted_rotation_rad) {
   PairMotion motion;
   switch (method) {
     case DenseMethod::kSad:
@@ -113,7 +114,7 @@ PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, cons
     }
     case DenseMethod::kPhase: {
       const PhaseCorrelationResult result =
-          RegisterPhaseCorrelation(reference, next, options.phase);
+          RegisterPhaseCorrelation(reference, next, options.phase, predicted_rotation_rad);
       motion.shift = result.shift;
       motion.rotation_rad = result.rotation_rad;
       break;

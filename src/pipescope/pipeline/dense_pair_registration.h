@@ -59,9 +59,11 @@ struct PairMotion {
 };
 
 // Registers a pair of prepared frames with one of the planar methods (every method but
-// kUnrolled). `predicted_shift` (the previous pair's) seeds dense-lk.
+// kUnrolled). `predicted_shift` (the previous pair's) seeds dense-lk; `predicted_rotation_rad`
+// starts phase correlation's rotation search.
 PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, const cv::Mat& next,
-                              const PairRegistrationOptions& options, cv::Point2d predicted_shift);
+                              const PairRegistrationOptions& options, cv::Point2d predicted_shift,
+                              double predicted_rotation_rad = 0.0);
 
 // ZNCC of reference(x) and next(x + shift) over their overlap (shift rounded to whole pixels);
 // 0 when the overlap is empty or flat.

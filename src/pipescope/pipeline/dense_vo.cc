@@ -208,6 +208,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       options.key_frame_window_fraction * options.registration.full_search.max_shift_y_px;
   Timer timer;
   Timer stage;
+  const ThreadCpuTimer cpu_timer;
   while (std::optional<Frame> frame = source->Next()) {
     result.reading_seconds += stage.Lap();
     cv::Mat current, mosaic_frame;
@@ -245,7 +246,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         const DenseMethod registration_method =
             on_unrolled_wall ? DenseMethod::kHybrid : options.method;
         motion = RegisterPlanarPair(registration_method, key->image, current, options.registration,
-                                    previous_shift + step);
+                                    previous_shift + step, previous_rotation + step_rotation);
       }
       if (motion.failure.empty()) {
         velocity_shift = motion.shift - previous_shift;
@@ -291,6 +292,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   }
   progress.Finish();
   result.registration_seconds = timer.ElapsedSeconds();
+  result.loop_cpu_seconds = cpu_timer.ElapsedSeconds();
   result.skipped_frames = source->skipped_frames();
   if (result.frames.empty()) {
     throw InputError(ManifestName(manifest) + ": no readable frames");

@@ -95,6 +95,9 @@ struct DenseVoResult {
   double reading_seconds = 0.0;
   double preparing_seconds = 0.0;
   double registering_seconds = 0.0;
+  // CPU seconds of the frame loop's own thread (frames are decoded on another): the cost of
+  // preparing and registering on one core, unaffected by a busy machine's waits.
+  double loop_cpu_seconds = 0.0;
 };
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is

@@ -56,7 +56,7 @@ TEST(EqualiseAxialScale, EveryBandLineMovesAtTheSameRate) {
       WallDepthRatios(start, radius, d, f, c, height, /*lines_are_rows=*/true);
   const int first = 48, lines = 96;  // the central half
   const AxialScaleEqualisation equalisation = EqualiseAxialScale(ratios, first, lines, true);
-  const Undistorter stretched(camera, equalisation.stretch);
+  const Undistorter stretched(camera, {.stretch = equalisation.stretch});
   const double zeta = f / d, travel = 0.002;
   double spread_before = 0.0;
   for (int y = first; y < first + lines; y += 5) {

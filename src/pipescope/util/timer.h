@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <ctime>
 
 namespace pipescope {
 
@@ -21,6 +22,22 @@ class Timer {
 
  private:
   std::chrono::steady_clock::time_point start_;
+};
+
+// CPU seconds of the calling thread: what a loop costs one core, whatever else the machine runs
+// (decoding on a read-ahead thread, other processes); for run.json's speed figures.
+class ThreadCpuTimer {
+ public:
+  ThreadCpuTimer() : start_(Now()) {}
+  double ElapsedSeconds() const { return Now() - start_; }
+
+ private:
+  static double Now() {
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+  }
+  double start_;
 };
 
 }  // namespace pipescope
