@@ -453,10 +453,11 @@ PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const 
   }
   angle = std::clamp(angle, -steps * step, steps * step);
   // The best step's correlation already holds the integer shift (within a step of the angle).
-  const std::optional<cv::Point2d> coarse_shift =
-      coarse_level > 0 ? std::optional<cv::Point2d>(peak_of_step(best).position *
-                                                    static_cast<double>(1 << coarse_level))
-                       : std::nullopt;
+  std::optional<cv::Point2d> coarse_shift;
+  if (coarse_level > 0) {
+    const cv::Point2d position = peak_of_step(best).position;
+    coarse_shift.emplace(position.x * (1 << coarse_level), position.y * (1 << coarse_level));
+  }
   Peak peak = EstimateTranslation(RotateAboutCentre(r, angle), n, coarse_level,
                                   coarse ? &*coarse : nullptr, &full, options, coarse_shift);
   for (int iteration = 0; iteration < options.split_rotation_iterations; ++iteration) {
