@@ -37,6 +37,29 @@ PairMotion FullSearchMotion(FullSearchCost cost, const cv::Mat& reference, const
   return motion;
 }
 
+// The pair cut to its overlap at the predicted shift rounded to whole pixels, reference(R) and
+// next(R + offset): a search around zero there is a search around the prediction in the whole
+// frames. 000 Algorithm 1 centres the window on zero motion, which bounds the shift from a key
+// frame by the window; centred on the prediction, a key frame can be kept for far longer, and
+// integer rounding then accrues once per key frame. No cut (offset 0) when the overlap would be
+// under a quarter of the frame or 16 px across.
+struct PairAtOffset {
+  cv::Mat reference, next;
+  cv::Point offset;
+};
+
+PairAtOffset CutToOverlap(const cv::Mat& reference, const cv::Mat& next, cv::Point2d predicted) {
+  const cv::Point offset(static_cast<int>(std::lround(predicted.x)),
+                         static_cast<int>(std::lround(predicted.y)));
+  const cv::Rect overlap =
+      cv::Rect(-offset, next.size()) & cv::Rect(cv::Point(0, 0), reference.size());
+  if (offset == cv::Point(0, 0) || overlap.width < 16 || overlap.height < 16 ||
+      overlap.area() < reference.size().area() / 4) {
+    return {reference, next, cv::Point(0, 0)};
+  }
+  return {reference(overlap), next(overlap + offset), offset};
+}
+
 }  // namespace
 
 const std::vector<std::string>& DenseMethodNames() {
@@ -85,14 +108,16 @@ PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, cons
   PairMotion motion;
   switch (method) {
     case DenseMethod::kSad:
-      motion = FullSearchMotion(FullSearchCost::kSad, reference, next, options.full_search);
-      break;
     case DenseMethod::kSsd:
-      motion = FullSearchMotion(FullSearchCost::kSsd, reference, next, options.full_search);
+    case DenseMethod::kZncc: {
+      const FullSearchCost cost = method == DenseMethod::kSad   ? FullSearchCost::kSad
+                                  : method == DenseMethod::kSsd ? FullSearchCost::kSsd
+                                                                : FullSearchCost::kZncc;
+      const PairAtOffset pair = CutToOverlap(reference, next, predicted_shift);
+      motion = FullSearchMotion(cost, pair.reference, pair.next, options.full_search);
+      motion.shift += cv::Point2d(pair.offset);
       break;
-    case DenseMethod::kZncc:
-      motion = FullSearchMotion(FullSearchCost::kZncc, reference, next, options.full_search);
-      break;
+    }
     case DenseMethod::kLucasKanade: {
       const LucasKanadeResult result =
           RegisterLucasKanade(reference, next, options.lucas_kanade, predicted_shift);
@@ -103,9 +128,11 @@ PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, cons
     case DenseMethod::kHybrid: {
       HybridOptions hybrid = options.hybrid;
       hybrid.full_search = options.full_search;
-      const HybridResult result = RegisterHybrid(reference, next, hybrid);
-      motion.shift = result.shift;
-      motion.still = result.still;
+      const PairAtOffset pair = CutToOverlap(reference, next, predicted_shift);
+      const HybridResult result = RegisterHybrid(pair.reference, pair.next, hybrid);
+      motion.shift = result.shift + cv::Point2d(pair.offset);
+      // Still means no motion from the reference, not none from the prediction.
+      motion.still = result.still && pair.offset == cv::Point(0, 0);
       if (std::abs(result.integer_shift.x) == options.full_search.max_shift_x_px ||
           std::abs(result.integer_shift.y) == options.full_search.max_shift_y_px) {
         motion.failure = "best shift on the search window's edge";

@@ -59,7 +59,8 @@ struct PairMotion {
 };
 
 // Registers a pair of prepared frames with one of the planar methods (every method but
-// kUnrolled). `predicted_shift` (the previous pair's) seeds dense-lk; `predicted_rotation_rad`
+// kUnrolled). `predicted_shift` (the previous pair's) centres the full search's window (dense-sad,
+// -ssd, -zncc, -hybrid) and seeds dense-lk; `predicted_rotation_rad`
 // starts phase correlation's rotation search.
 PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, const cv::Mat& next,
                               const PairRegistrationOptions& options, cv::Point2d predicted_shift,

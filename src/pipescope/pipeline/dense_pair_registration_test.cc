@@ -56,6 +56,27 @@ INSTANTIATE_TEST_SUITE_P(AllPlanarMethods, PlanarPairRegistration,
                            return name;
                          });
 
+// The full search's window is centred on the prediction: a shift beyond the window around zero
+// is found when the prediction is near it, and missed (flagged on the window's edge) without.
+TEST(PlanarPairRegistration, FullSearchWindowFollowsThePrediction) {
+  const cv::Point2d truth(41.3, -2.2);
+  const RegistrationPair pair = MakeRegistrationPair({160, 120}, truth, 0.0, 1.0, 12);
+  PairRegistrationOptions options;
+  options.full_search.max_shift_x_px = 8;
+  options.full_search.max_shift_y_px = 4;
+  for (const DenseMethod method : {DenseMethod::kSad, DenseMethod::kHybrid}) {
+    const PairMotion predicted =
+        RegisterPlanarPair(method, pair.reference, pair.next, options, {38.6, -1.0});
+    EXPECT_TRUE(predicted.failure.empty()) << predicted.failure;
+    EXPECT_LT(Distance(predicted.shift, truth), method == DenseMethod::kSad ? 0.71 : 0.05)
+        << predicted.shift;
+    EXPECT_FALSE(predicted.still);
+    const PairMotion unpredicted =
+        RegisterPlanarPair(method, pair.reference, pair.next, options, {0.0, 0.0});
+    EXPECT_FALSE(unpredicted.failure.empty());
+  }
+}
+
 TEST(PlanarPairRegistration, PhaseRecoversRotation) {
   const double rotation = 2.5 * M_PI / 180.0;
   const RegistrationPair pair = MakeRegistrationPair({256, 192}, {3.2, 1.1}, rotation, 1.0, 5);

@@ -110,6 +110,12 @@ void SetSearchWindowFromSpeed(const DatasetManifest& manifest, double zeta,
 
 }  // namespace
 
+double KeyFrameShiftFraction(DenseMethod method) {
+  const bool integer_search =
+      method == DenseMethod::kSad || method == DenseMethod::kSsd || method == DenseMethod::kZncc;
+  return integer_search ? 0.4 : 0.1;
+}
+
 DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                          const DenseVoOptions& requested_options) {
   const double zeta = RequireReferenceScale(manifest);
@@ -187,7 +193,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   // Each frame is registered to the current key frame, not to the one before: a registration's
   // sub-pixel bias then accrues once per key frame instead of once per frame (at 3 px a frame,
   // 0.01 px is 0.3 % of the travel). A frame becomes the key frame when its shift from the key
-  // reaches key_frame_window_fraction of the full-search window, or its registration failed.
+  // reaches key_frame_shift_fraction of the frame's extent, or its registration failed.
   struct KeyFrame {
     cv::Mat image;
     Eigen::Isometry3d pose;
@@ -202,10 +208,8 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   cv::Point2d velocity_shift(0.0, 0.0);
   double velocity_rotation = 0.0, velocity_dt = 0.0;
   double previous_timestamp = 0.0;
-  const double key_shift_x =
-      options.key_frame_window_fraction * options.registration.full_search.max_shift_x_px;
-  const double key_shift_y =
-      options.key_frame_window_fraction * options.registration.full_search.max_shift_y_px;
+  const double key_shift_fraction =
+      options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method));
   Timer timer;
   Timer stage;
   const ThreadCpuTimer cpu_timer;
@@ -273,8 +277,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                                 band_principal_point, band_centre);
       }
       content_offset = key->content_offset - motion.shift;
-      new_key = !motion.failure.empty() || std::abs(motion.shift.x) >= key_shift_x ||
-                std::abs(motion.shift.y) >= key_shift_y;
+      new_key = !motion.failure.empty() ||
+                std::abs(motion.shift.x) >= key_shift_fraction * current.cols ||
+                std::abs(motion.shift.y) >= key_shift_fraction * current.rows;
       previous_shift = motion.shift;
       previous_rotation = motion.rotation_rad;
     }

@@ -34,10 +34,13 @@ struct DenseVoOptions {
   // 1 = the whole frame, as 000.
   double registration_band = 0.5;
   // Frames are registered to a key frame, which is renewed when a frame's shift from it reaches
-  // this fraction of the full-search window (search_x_px, search_y_px) or a registration
-  // fails: a registration's sub-pixel bias accrues once per key frame, not once per frame.
-  // 0: every frame is registered to the one before, as 000.
-  double key_frame_window_fraction = 0.5;
+  // this fraction of the registered frame's extent along either axis, or a registration fails:
+  // a registration's sub-pixel bias, or an integer search's rounding, accrues once per key
+  // frame, not once per frame. The full search's window is centred on the predicted shift, so
+  // it need not cover the shift from the key. Unset: KeyFrameShiftFraction(method). At most
+  // 0.45, below where phase correlation's shifts wrap. 0: every frame is registered to the one
+  // before, as 000.
+  std::optional<double> key_frame_shift_fraction;
   // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
   // line so that every line of the band moves at the same rate along the pipe, and that rate
   // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
@@ -99,6 +102,13 @@ struct DenseVoResult {
   // preparing and registering on one core, unaffected by a busy machine's waits.
   double loop_cpu_seconds = 0.0;
 };
+
+// The default key-frame spacing of a method, as a fraction of the registered frame (measured on
+// the benchmark runs of docs/dense_vo.md): 0.4 for the integer full searches, whose error is one
+// rounding per key frame (steel-6in dense-sad: 0.119 % at about 0.06, 0.023 % at 0.4); 0.1 for
+// the sub-pixel methods, whose precision falls with the overlap (steel-16in phase: 3.0 % at 0.4,
+// dense-hybrid 0.023 % against 0.003 %).
+double KeyFrameShiftFraction(DenseMethod method);
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is
 // required, and the pipe radius for dense-unrolled; the dataset's gain mask is applied when it

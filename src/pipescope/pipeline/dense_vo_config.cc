@@ -25,7 +25,7 @@ const std::set<std::string> kKeys = {"downsample",
                                      "mosaic_spacing_px",
                                      "registration_band",
                                      "foreshortening_correction",
-                                     "key_frame_window_fraction",
+                                     "key_frame_shift_fraction",
                                      "presmooth_sigma_px"};
 
 void RequireRange(const std::filesystem::path& file, const std::string& key, double value,
@@ -92,9 +92,9 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "registration_band", *value, 0.05, 1.0);
     options->registration_band = *value;
   }
-  if (auto value = OptionalYamlValue<double>(root, "key_frame_window_fraction", path)) {
-    RequireRange(path, "key_frame_window_fraction", *value, 0.0, 0.9);
-    options->key_frame_window_fraction = *value;
+  if (auto value = OptionalYamlValue<double>(root, "key_frame_shift_fraction", path)) {
+    RequireRange(path, "key_frame_shift_fraction", *value, 0.0, 0.45);
+    options->key_frame_shift_fraction = *value;
   }
   if (auto value = OptionalYamlValue<bool>(root, "foreshortening_correction", path)) {
     options->foreshortening_correction = *value;
@@ -129,7 +129,8 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
       {"axis_along_pipe", options.mount.axis_along_pipe},
       {"registration_band", options.registration_band},
       {"foreshortening_correction", options.foreshortening_correction},
-      {"key_frame_window_fraction", options.key_frame_window_fraction},
+      {"key_frame_shift_fraction",
+       options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method))},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
       {"mosaic", options.build_mosaic},
       {"mosaic_spacing_px", options.mosaic_spacing_px},

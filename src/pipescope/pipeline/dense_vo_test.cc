@@ -109,9 +109,9 @@ INSTANTIATE_TEST_SUITE_P(Methods, DenseVoAccuracy,
 // search accumulates (one rounding per key frame instead of per frame).
 TEST(DenseVo, KeyFramesCutTheIntegerSearchesRounding) {
   DenseVoOptions options = HalfResolutionOptions(DenseMethod::kSad);
-  options.key_frame_window_fraction = 0.0;
+  options.key_frame_shift_fraction = 0.0;
   const Metrics consecutive = RunAndEvaluate(ShortSteelRun(), options);
-  options.key_frame_window_fraction = 0.5;
+  options.key_frame_shift_fraction = 0.4;
   const Metrics keyed = RunAndEvaluate(ShortSteelRun(), options);
   ASSERT_TRUE(consecutive.distance_error_pct && keyed.distance_error_pct);
   EXPECT_LT(*keyed.distance_error_pct, 0.5 * *consecutive.distance_error_pct);
