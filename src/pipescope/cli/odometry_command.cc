@@ -98,6 +98,9 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   report.SetCount("refinements", result.refinements);
   report.SetCount("window_adjustments", result.window_adjustments);
   report.AddTiming("odometry", result.odometry_seconds);
+  for (const auto& [stage, seconds] : result.stage_seconds) {
+    report.AddTiming("odometry_" + stage, seconds);
+  }
   report.Extra("failed_frames") = FailedFramesJson(result);
   report.Extra("unreadable_frames") = result.skipped_frames;
   report.Extra("initial_position") = {

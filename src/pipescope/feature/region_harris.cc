@@ -38,10 +38,12 @@ cv::Mat HarrisResponse(const cv::Mat& grey, const RegionHarrisOptions& options) 
   cv::sepFilter2D(image, iy, CV_32F, smooth, derivative, cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
   // Eq. 30 with the Gaussian window G(sigma_W).
   cv::Mat ixx = ix.mul(ix), iyy = iy.mul(iy), ixy = ix.mul(iy);
-  const cv::Size none(0, 0);
-  cv::GaussianBlur(ixx, ixx, none, options.sigma_window_px, 0, cv::BORDER_REFLECT);
-  cv::GaussianBlur(iyy, iyy, none, options.sigma_window_px, 0, cv::BORDER_REFLECT);
-  cv::GaussianBlur(ixy, ixy, none, options.sigma_window_px, 0, cv::BORDER_REFLECT);
+  // Truncated at 3 sigma (OpenCV's default for float images is 4 sigma, a third more taps).
+  const int half = std::max(1, static_cast<int>(std::ceil(3.0 * options.sigma_window_px)));
+  const cv::Size window(2 * half + 1, 2 * half + 1);
+  cv::GaussianBlur(ixx, ixx, window, options.sigma_window_px, 0, cv::BORDER_REFLECT);
+  cv::GaussianBlur(iyy, iyy, window, options.sigma_window_px, 0, cv::BORDER_REFLECT);
+  cv::GaussianBlur(ixy, ixy, window, options.sigma_window_px, 0, cv::BORDER_REFLECT);
   cv::Mat trace = ixx + iyy;
   cv::Mat response = ixx.mul(iyy) - ixy.mul(ixy) - options.k * trace.mul(trace);
   return response;

@@ -17,7 +17,9 @@ cv::Mat DescribeWithSift(const cv::Mat& grey, const std::vector<Keypoint>& keypo
     cv_keypoints.emplace_back(keypoint.position, options.keypoint_size_px, 0.f, keypoint.response,
                               0);
   }
-  static thread_local cv::Ptr<cv::SIFT> sift = cv::SIFT::create();
+  // One layer per octave: OpenCV then blurs 4 images instead of 6 for the one octave it builds;
+  // the descriptors come from layer 0 either way.
+  static thread_local cv::Ptr<cv::SIFT> sift = cv::SIFT::create(0, 1);
   cv::Mat descriptors;
   const std::size_t requested = cv_keypoints.size();
   sift->compute(grey8, cv_keypoints, descriptors);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -74,18 +75,26 @@ struct LocalisedFrame {
 class SparseOdometer {
  public:
   SparseOdometer(const Camera& camera, double radius_m, const Eigen::Isometry3d& start,
-                 const SparseVoOptions& options)
-      : camera_(camera), radius_m_(radius_m), start_(start), options_(options) {
+                 const SparseVoOptions& options, std::map<std::string, double>* stage_seconds)
+      : camera_(camera),
+        radius_m_(radius_m),
+        start_(start),
+        options_(options),
+        stage_seconds_(stage_seconds) {
     options_.ransac.focal_length_px = CentralFocalLengthPx(camera);
     const std::optional<Eigen::Vector3d> facing =
         WallPointOfBearing(start, Eigen::Vector3d::UnitZ(), radius_m);
     phi_reference_rad_ = facing ? std::atan2(facing->y(), facing->x()) : M_PI / 2.0;
   }
 
-  FrameFeatures Extract(const cv::Mat& corrected) const {
+  // Thread-safe (runs on the reader thread); `seconds` gets the Harris and SIFT times.
+  FrameFeatures Extract(const cv::Mat& corrected, double seconds[2]) const {
+    const Timer timer;
     FrameFeatures features;
     features.keypoints = DetectRegionHarris(corrected, options_.harris);
+    seconds[0] = timer.ElapsedSeconds();
     features.descriptors = DescribeWithSift(corrected, features.keypoints, options_.sift);
+    seconds[1] = timer.ElapsedSeconds() - seconds[0];
     features.bearings.resize(features.keypoints.size());
     features.has_bearing.resize(features.keypoints.size());
     for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
@@ -96,6 +105,7 @@ class SparseOdometer {
   }
 
   PairMatches Match(const FrameFeatures& key, const FrameFeatures& frame) const {
+    const Timer timer;
     PairMatches result;
     std::vector<IndexMatch> candidates;
     for (const IndexMatch& match :
@@ -120,6 +130,7 @@ class SparseOdometer {
       to.push_back(frame.keypoints[candidates[i].second].position);
     }
     result.median_flow_px = MedianFlow(from, to);
+    (*stage_seconds_)["matching"] += timer.ElapsedSeconds();
     return result;
   }
 
@@ -222,6 +233,7 @@ class SparseOdometer {
 
   // 000 §5.3.2: C_X, C_Y and the delta_h of the first key frames by reprojection (eq. 45-49).
   void OptimiseStart(SparseVoResult* result) {
+    const Timer timer;
     std::vector<std::vector<KeyFrameKeypoint>> keypoints(key_frames_.size());
     std::vector<double> delta_h(key_frames_.size());
     const Eigen::Isometry3d& first = key_frames_.front().pose;
@@ -249,11 +261,13 @@ class SparseOdometer {
                                                first.translation().z() + optimised.delta_h[a]);
     }
     for (KeyFrame& key : key_frames_) AddContributions(&key);
+    (*stage_seconds_)["initial_position"] += timer.ElapsedSeconds();
   }
 
   // 000 §5.3.3: each of the last 2N key frames in turn, its S(g) entries taken out, refined with
   // six degrees of freedom, and put back; `refine_passes` times.
   void RefineWindow() {
+    const Timer timer;
     const std::size_t count = key_frames_.size();
     const std::size_t window = 2 * static_cast<std::size_t>(options_.refine_every);
     const std::size_t begin = count > window ? count - window : 0;
@@ -273,6 +287,7 @@ class SparseOdometer {
         AddContributions(&key);
       }
     }
+    (*stage_seconds_)["refinement"] += timer.ElapsedSeconds();
   }
 
   // The window adjustment of key frames [begin, end), the first `fixed` of them held.
@@ -292,7 +307,9 @@ class SparseOdometer {
       }
       window.push_back(std::move(entry));
     }
+    const Timer timer;
     AdjustWindow(camera_, radius_m_, options_.window, &window);
+    (*stage_seconds_)["window_adjustment"] += timer.ElapsedSeconds();
     for (std::size_t k = begin; k < end; ++k) {
       if (window[k - begin].fixed) continue;
       RemoveContributions(&key_frames_[k]);
@@ -369,6 +386,7 @@ class SparseOdometer {
   double phi_reference_rad_ = 0.0;
   std::vector<KeyFrame> key_frames_;
   std::vector<TrackStatistics> statistics_;  // S(g), indexed by g
+  std::map<std::string, double>* stage_seconds_;
 };
 
 double SaturatedFraction(const cv::Mat& grey, double level) {
@@ -461,7 +479,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   }
 
   SparseVoResult result;
-  SparseOdometer odometer(camera, radius, start, options);
+  SparseOdometer odometer(camera, radius, start, options, &result.stage_seconds);
   std::vector<LocalisedFrame> localised;
   // The newest localised frame since the key frame: the next key frame when the span ends.
   struct Candidate {
@@ -477,22 +495,51 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
   ProgressBar progress("sparse", source->FrameCount());
   Timer timer;
-  while (std::optional<Frame> frame = source->Next()) {
+  // Reading, gain correction and feature extraction of the next frame run on a second thread
+  // while this one matches and estimates (options.pipelined), one frame ahead.
+  struct Loaded {
+    Frame frame;
+    double saturated = 0.0;
+    FrameFeatures features;
+    double seconds[3] = {0.0, 0.0, 0.0};  // reading, Harris, SIFT
+  };
+  auto load = [&]() -> std::optional<Loaded> {
+    const Timer read_timer;
+    std::optional<Frame> frame = source->Next();
+    if (!frame) return std::nullopt;
+    Loaded loaded;
+    loaded.saturated = SaturatedFraction(frame->grey, options.saturation_level);
+    if (loaded.saturated <= options.max_saturated_fraction) {
+      const cv::Mat corrected =
+          gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask);
+      loaded.seconds[0] = read_timer.ElapsedSeconds();
+      loaded.features = odometer.Extract(corrected, loaded.seconds + 1);
+    }
+    loaded.frame = std::move(*frame);
+    return loaded;
+  };
+  const std::launch policy = options.pipelined ? std::launch::async : std::launch::deferred;
+  std::future<std::optional<Loaded>> next = std::async(policy, load);
+  while (true) {
+    std::optional<Loaded> loaded = next.get();
+    if (!loaded) break;
+    next = std::async(policy, load);
+    result.stage_seconds["read"] += loaded->seconds[0];
+    result.stage_seconds["features_harris"] += loaded->seconds[1];
+    result.stage_seconds["features_sift"] += loaded->seconds[2];
+    const Frame* frame = &loaded->frame;
     progress.Update(frame->index + 1);
     SparseFrameRecord record;
     record.index = frame->index;
     record.timestamp = frame->timestamp;
     record.name = frame->name;
-    const double saturated = SaturatedFraction(frame->grey, options.saturation_level);
-    if (saturated > options.max_saturated_fraction) {
-      record.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
+    if (loaded->saturated > options.max_saturated_fraction) {
+      record.failure = std::to_string(static_cast<int>(std::round(100.0 * loaded->saturated))) +
                        " % of the pixels saturated";
       result.frames.push_back(std::move(record));
       continue;
     }
-    const cv::Mat corrected =
-        gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask);
-    FrameFeatures features = odometer.Extract(corrected);
+    FrameFeatures features = std::move(loaded->features);
     record.keypoints = static_cast<int>(features.keypoints.size());
     if (odometer.Empty()) {
       if (static_cast<int>(features.keypoints.size()) < options.min_correspondences) {

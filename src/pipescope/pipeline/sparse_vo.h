@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -53,6 +54,9 @@ struct SparseVoOptions {
   // offset. 0 = from the reference scale (f / zeta) when the dataset has one, else the radius
   // (camera on the axis).
   double wall_distance_m = 0.0;
+  // Read frames and extract their features on a second thread, one frame ahead (beyond 000;
+  // same results, the machine's second core used).
+  bool pipelined = true;
   double max_saturated_fraction = 0.2;
   double saturation_level = 250.0;
   bool build_mosaic = true;
@@ -96,6 +100,10 @@ struct SparseVoResult {
   double mosaic_pixel_m = 0.0;
   cv::Point2d mosaic_origin_m;  // (h, s) of cell (0, 0)
   double odometry_seconds = 0.0;
+  // Where the odometry time went: "read" (decoding, gain correction), "features_harris",
+  // "features_sift" (on the reader thread when pipelined), "matching"
+  // (descriptors, RANSAC), "initial_position", "window_adjustment", "refinement".
+  std::map<std::string, double> stage_seconds;
 };
 
 // Runs sparse VO over the dataset's frames; needs pipe.inner_radius_m. The dataset's gain mask

@@ -41,7 +41,8 @@ const std::set<std::string> kKeys = {"grid_rows",
                                      "window_size",
                                      "window_every",
                                      "window_fixed",
-                                     "window_iterations"};
+                                     "window_iterations",
+                                     "pipelined"};
 
 class ConfigReader {
  public:
@@ -107,6 +108,7 @@ void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* opt
   options->refinement.huber_m = huber;
   r.Read("reprojection_loss_px", 0.0, 1000.0, &options->initial_position.robust_loss_px);
   r.ReadBool("window_adjustment", &options->window_adjustment);
+  r.ReadBool("pipelined", &options->pipelined);
   r.Read("window_size", 2, 10000, &options->window_size);
   r.Read("window_every", 1, 10000, &options->window_every);
   r.Read("window_fixed", 0, 10000, &options->window_fixed);
@@ -152,6 +154,7 @@ nlohmann::json SparseVoOptionsToJson(const SparseVoOptions& o) {
           {"huber_m", o.axial_step.huber_m},
           {"reprojection_loss_px", o.initial_position.robust_loss_px},
           {"window_adjustment", o.window_adjustment},
+          {"pipelined", o.pipelined},
           {"window_size", o.window_size},
           {"window_every", o.window_every},
           {"window_fixed", o.window_fixed},

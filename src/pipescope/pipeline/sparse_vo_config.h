@@ -12,7 +12,7 @@ namespace pipescope {
 // and key.
 //   grid_rows, grid_cols, per_cell, nms_window_px      region Harris (6, 8, 20, 7)
 //   sigma_window_px, sigma_derivative_px, harris_k     (3.0, 1.5, 0.04)
-//   sift_keypoint_size_px                              SIFT patch scale (6)
+//   sift_keypoint_size_px                              SIFT patch scale (4)
 //   max_ratio, mutual_check                            matching (0.8, true)
 //   ransac_threshold_px                                five-point RANSAC (1.0)
 //   key_frame_min_correspondences, key_frame_max_flow_fraction   key frames (150, 0.15)
@@ -20,6 +20,7 @@ namespace pipescope {
 //   refine, refine_every, refine_passes, refine_at_end §5.3.3 (true, 50, 2, true)
 //   window_adjustment, window_size, window_every, window_fixed, window_iterations
 //                          beyond 000: joint window adjustment (true, 20, 10, 3, 15)
+//   pipelined              read and extract features on a second thread (true)
 //   huber_m                robust loss on surface distances, 0 = off (0.0005)
 //   reprojection_loss_px   Cauchy loss of §5.3.2, 0 = off (1.0)
 //   min_correspondences    fewest inliers to localise a frame (12)
