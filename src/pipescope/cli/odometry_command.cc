@@ -108,6 +108,12 @@ int RunSparseOdometry(const OdometryFlags& flags) {
       {"optimised_c_xy_m", {result.optimised_c_xy.x(), result.optimised_c_xy.y()}},
       {"reprojection_rms_before_px", result.initial_reprojection_rms_px},
       {"reprojection_rms_after_px", result.optimised_reprojection_rms_px}};
+  report.Extra("global_scale") = {
+      {"offset_xy_m", {result.global_scale.offset_xy.x(), result.global_scale.offset_xy.y()}},
+      {"scale", result.global_scale.scale},
+      {"residuals", result.global_scale.residuals},
+      {"reprojection_rms_before_px", result.global_scale.initial_rms_px},
+      {"reprojection_rms_after_px", result.global_scale.final_rms_px}};
   nlohmann::json key_frames = nlohmann::json::array();
   for (const SparseKeyFrameRecord& key : result.key_frame_records) {
     key_frames.push_back(

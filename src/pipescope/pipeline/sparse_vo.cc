@@ -290,6 +290,27 @@ class SparseOdometer {
     (*stage_seconds_)["refinement"] += timer.ElapsedSeconds();
   }
 
+  void CorrectScale(SparseVoResult* result) {
+    const Timer timer;
+    std::vector<WindowKeyFrame> all;
+    for (const KeyFrame& key : key_frames_) {
+      WindowKeyFrame entry;
+      entry.pose = key.pose;
+      for (std::size_t i = 0; i < key.tracks.size(); ++i) {
+        if (!key.features.has_bearing[i] || statistics_[key.tracks[i]].n < 2.0) continue;
+        const cv::Point2f& p = key.features.keypoints[i].position;
+        entry.keypoints.push_back(
+            {key.tracks[i], Eigen::Vector2d(p.x, p.y), key.features.bearings[i]});
+      }
+      all.push_back(std::move(entry));
+    }
+    result->global_scale = CorrectGlobalScale(camera_, radius_m_, options_.global, &all);
+    for (KeyFrame& key : key_frames_) RemoveContributions(&key);
+    for (std::size_t k = 0; k < key_frames_.size(); ++k) key_frames_[k].pose = all[k].pose;
+    for (KeyFrame& key : key_frames_) AddContributions(&key);
+    (*stage_seconds_)["global_scale"] += timer.ElapsedSeconds();
+  }
+
   // The window adjustment of key frames [begin, end), the first `fixed` of them held.
   void AdjustKeyFrames(std::size_t begin, int fixed) {
     const std::size_t end = key_frames_.size();
@@ -334,6 +355,7 @@ class SparseOdometer {
       RefineWindow();
       ++result->refinements;
     }
+    if (options_.global_scale) CorrectScale(result);
     // Every frame again against the final poses and statistics.
     for (LocalisedFrame& frame : *frames) {
       if (frame.sightings.empty()) continue;

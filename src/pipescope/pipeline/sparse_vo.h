@@ -7,6 +7,7 @@
 
 #include "pipescope/camera/camera.h"
 #include "pipescope/estimation/axial_step.h"
+#include "pipescope/estimation/global_scale.h"
 #include "pipescope/estimation/initial_position.h"
 #include "pipescope/estimation/pose_refinement.h"
 #include "pipescope/estimation/window_adjustment.h"
@@ -47,6 +48,10 @@ struct SparseVoOptions {
   int window_every = 10;
   int window_fixed = 3;
   WindowAdjustmentOptions window;
+  // Beyond 000: after the last key frame, one common cross-section offset and travel scale for
+  // all key frames by reprojection over the whole run (estimation/global_scale.h).
+  bool global_scale = false;
+  GlobalScaleOptions global;
   // Fewest inlier correspondences a frame needs to be localised at all.
   int min_correspondences = 12;
   CameraMount mount;
@@ -96,6 +101,7 @@ struct SparseVoResult {
   double optimised_reprojection_rms_px = 0.0;
   int refinements = 0;
   int window_adjustments = 0;
+  GlobalScaleResult global_scale;
   cv::Mat mosaic;  // unrolled (CV_32F, NaN where unseen); rows along s = r phi, columns along h
   double mosaic_pixel_m = 0.0;
   cv::Point2d mosaic_origin_m;  // (h, s) of cell (0, 0)

@@ -42,7 +42,8 @@ const std::set<std::string> kKeys = {"grid_rows",
                                      "window_every",
                                      "window_fixed",
                                      "window_iterations",
-                                     "pipelined"};
+                                     "pipelined",
+                                     "global_scale"};
 
 class ConfigReader {
  public:
@@ -109,6 +110,7 @@ void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* opt
   r.Read("reprojection_loss_px", 0.0, 1000.0, &options->initial_position.robust_loss_px);
   r.ReadBool("window_adjustment", &options->window_adjustment);
   r.ReadBool("pipelined", &options->pipelined);
+  r.ReadBool("global_scale", &options->global_scale);
   r.Read("window_size", 2, 10000, &options->window_size);
   r.Read("window_every", 1, 10000, &options->window_every);
   r.Read("window_fixed", 0, 10000, &options->window_fixed);
@@ -155,6 +157,7 @@ nlohmann::json SparseVoOptionsToJson(const SparseVoOptions& o) {
           {"reprojection_loss_px", o.initial_position.robust_loss_px},
           {"window_adjustment", o.window_adjustment},
           {"pipelined", o.pipelined},
+          {"global_scale", o.global_scale},
           {"window_size", o.window_size},
           {"window_every", o.window_every},
           {"window_fixed", o.window_fixed},

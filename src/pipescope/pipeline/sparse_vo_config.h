@@ -20,6 +20,7 @@ namespace pipescope {
 //   refine, refine_every, refine_passes, refine_at_end §5.3.3 (true, 50, 2, true)
 //   window_adjustment, window_size, window_every, window_fixed, window_iterations
 //                          beyond 000: joint window adjustment (true, 20, 10, 3, 15)
+//   global_scale           beyond 000: one cross-section offset and scale over the run (false)
 //   pipelined              read and extract features on a second thread (true)
 //   huber_m                robust loss on surface distances, 0 = off (0.0005)
 //   reprojection_loss_px   Cauchy loss of §5.3.2, 0 = off (1.0)
