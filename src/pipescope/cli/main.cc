@@ -22,6 +22,7 @@ const Subcommand kSubcommands[] = {
      SetupOdometryCommand},
     {"mosaic", "Stitch a dataset's frames at known poses into an appearance map (000 §6.1)",
      SetupMosaicCommand},
+    {"map", "Fisheye pipe mapping of straight pipes and networks (001 §III)", SetupMapCommand},
     {"calibrate", "Calibrate the camera from checkerboard images (001 §II)", SetupCalibrateCommand},
     {"gainmask", "Build the gain mask from white-card images (000 §3.2)", SetupGainmaskCommand},
     {"undistort", "Write a dataset's frames rectified to a perspective image",

@@ -172,6 +172,9 @@ int RunOdometry(const OdometryFlags& flags) {
   for (const DenseFrameRecord& frame : result.frames) still += frame.still ? 1 : 0;
   report.SetCount("pairs_still", still);
   report.AddTiming("odometry", result.registration_seconds);
+  report.AddTiming("odometry_reading", result.reading_seconds);
+  report.AddTiming("odometry_preparing", result.preparing_seconds);
+  report.AddTiming("odometry_registering", result.registering_seconds);
   report.Extra("failed_frames") = FailedFramesJson(result);
   report.Extra("unreadable_frames") = result.skipped_frames;
   if (result.failed_pairs > 0) {

@@ -25,5 +25,6 @@ SubcommandRunner SetupRefscaleCommand(CLI::App* command);
 SubcommandRunner SetupCalibrateCommand(CLI::App* command);
 SubcommandRunner SetupOdometryCommand(CLI::App* command);
 SubcommandRunner SetupMosaicCommand(CLI::App* command);
+SubcommandRunner SetupMapCommand(CLI::App* command);
 
 }  // namespace pipescope

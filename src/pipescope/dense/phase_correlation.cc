@@ -305,14 +305,28 @@ Peak EstimateTranslation(const cv::Mat& reference, const cv::Mat& next, int coar
   return fine;
 }
 
+// The coarse pyramid level of PhaseCorrelationOptions::coarse_level_min_size_px: by the longer
+// side, so that a wide band (160x60) gets one too.
+int CoarseLevel(cv::Size size, int min_longer_side_px) {
+  constexpr int kMaxLevel = 2, kMinShorterSidePx = 16;
+  int level = 0;
+  int longer = std::max(size.width, size.height), shorter = std::min(size.width, size.height);
+  while (level < kMaxLevel && longer / 2 >= min_longer_side_px &&
+         shorter / 2 >= kMinShorterSidePx) {
+    longer /= 2;
+    shorter /= 2;
+    ++level;
+  }
+  return level;
+}
+
 }  // namespace
 
 PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const cv::Mat& next,
                                                 const PhaseCorrelationOptions& options) {
   cv::Mat r, n;
   PrepareRegistrationPair(reference, next, "phase correlation", &r, &n);
-  const int coarse_level =
-      NumPyramidLevels(r.size(), 3, std::max(1, options.coarse_level_min_size_px)) - 1;
+  const int coarse_level = CoarseLevel(r.size(), options.coarse_level_min_size_px);
   std::optional<Level> coarse;
   if (coarse_level > 0) coarse.emplace(BuildGaussianPyramid(n, coarse_level + 1).back(), options);
   std::optional<Level> full;

@@ -31,14 +31,14 @@ struct PhaseCorrelationOptions {
   // of a sharper one's detail).
   double spectrum_sigma = 0.1;
   // Two passes: the integer shift from a correlation on a coarse pyramid level (the coarsest of
-  // up to 3 whose shorter side is still coarse_level_min_size_px: 80x60 for 160x120, 128x96 for
-  // 256x192, 160x120 for 640x480; full resolution for smaller images), then the sub-pixel shift
-  // from a correlation of the two images' overlap at that shift, each windowed there. A window
-  // fixed to the frame pulls the peak towards zero shift (about 0.2 % of the shift); one that
-  // moves with the content does not. Off: one correlation of the whole images (eq. 5-6 as
-  // written).
+  // up to 3 whose longer side is still coarse_level_min_size_px and shorter side 16 px: 80x60
+  // for 160x120, 128x96 for 256x192, 160x120 for 640x480, 80x30 for the 160x60 band of a
+  // 16-inch run; full resolution for smaller images), then the sub-pixel shift from a
+  // correlation of the two images' overlap at that shift, each windowed there. A window fixed to
+  // the frame pulls the peak towards zero shift (about 0.2 % of the shift); one that moves with
+  // the content does not. Off: one correlation of the whole images (eq. 5-6 as written).
   bool refine_on_overlap = true;
-  int coarse_level_min_size_px = 60;
+  int coarse_level_min_size_px = 80;
   // Rotation by search (003 eq. 7): the reference is rotated about the image centre by each angle
   // of -max_rotation_rad ... max_rotation_rad in steps of rotation_step_rad (003: whole degrees
   // over +-10 degrees), and the angle with the highest peak wins. The search runs on the coarse

@@ -10,6 +10,9 @@
 namespace pipescope {
 namespace {
 
+// Mask values below 1 % of its maximum are clamped, so a lens's dark rim does not explode.
+constexpr double kMinGain = 0.01;
+
 cv::Mat NormaliseToUnitMaximum(const cv::Mat& image, const std::string& what) {
   double max_value = 0.0;
   cv::minMaxLoc(image, nullptr, &max_value);
@@ -36,21 +39,27 @@ cv::Mat BuildGainMask(const std::vector<cv::Mat>& white_card_images, double sigm
   return NormaliseToUnitMaximum(mean, "the mean white-card image");
 }
 
+cv::Mat GainCorrectionFactors(const cv::Mat& mask) {
+  cv::Mat gain;
+  cv::max(mask, kMinGain, gain);
+  cv::Mat factors;
+  cv::divide(1.0, gain, factors, CV_32F);
+  return factors;
+}
+
 cv::Mat ApplyGainMask(const cv::Mat& image, const cv::Mat& mask) {
   if (image.size() != mask.size()) {
     throw InputError("the gain mask is " + std::to_string(mask.cols) + "x" +
                      std::to_string(mask.rows) + " but the frame is " + std::to_string(image.cols) +
                      "x" + std::to_string(image.rows));
   }
-  constexpr double kMinGain = 0.01;
-  cv::Mat gain;
-  cv::max(mask, kMinGain, gain);
+  const cv::Mat factors = GainCorrectionFactors(mask);
   cv::Mat image_float;
   image.convertTo(image_float, CV_MAKETYPE(CV_32F, image.channels()));
-  if (image.channels() == 1) return image_float / gain;
+  if (image.channels() == 1) return image_float.mul(factors);
   std::vector<cv::Mat> channels;
   cv::split(image_float, channels);
-  for (cv::Mat& channel : channels) channel /= gain;
+  for (cv::Mat& channel : channels) channel = channel.mul(factors);
   cv::Mat corrected;
   cv::merge(channels, corrected);
   return corrected;

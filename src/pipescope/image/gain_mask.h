@@ -16,6 +16,10 @@ cv::Mat BuildGainMask(const std::vector<cv::Mat>& white_card_images, double sigm
 // below 1 % of its maximum are clamped there, so the dark rim of a lens does not explode.
 cv::Mat ApplyGainMask(const cv::Mat& image, const cv::Mat& mask);
 
+// The factors ApplyGainMask multiplies a frame by: 1 / max(mask, 1 %) (CV_32F). Pipelines that
+// fold the correction into another pass (a weighted block mean) take these once.
+cv::Mat GainCorrectionFactors(const cv::Mat& mask);
+
 // 16-bit PNG, 65535 = the mask's maximum; written atomically.
 void WriteGainMask(const std::filesystem::path& path, const cv::Mat& mask);
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace pipescope {
 namespace {
@@ -84,6 +85,31 @@ TEST(Undistorter, ApplyResamplesThroughTheMaps) {
       if (source.x < 0 || source.x > 159 || source.y < 0 || source.y > 119) continue;
       EXPECT_NEAR(rectified.at<float>(y, x), source.x, 1.0 / 32.0 + 1e-3);
     }
+  }
+}
+
+TEST(Undistorter, FixedPointTablesEqualTheFloatTables) {
+  const Camera camera(CameraModelId::kKannalaBrandt, 200, 150,
+                      {160.0, 160.0, 99.0, 76.0, 0.05, -0.02, 0.01, 0.0});
+  const Undistorter undistorter(camera);
+  cv::Mat map_x(150, 200, CV_32F), map_y(150, 200, CV_32F);
+  for (int y = 0; y < 150; ++y) {
+    for (int x = 0; x < 200; ++x) {
+      const cv::Point2f source = undistorter.SourcePixel(x, y);
+      map_x.at<float>(y, x) = source.x;
+      map_y.at<float>(y, x) = source.y;
+    }
+  }
+  cv::Mat image(150, 200, CV_8U);
+  cv::randu(image, 0, 256);
+  for (const int depth : {CV_8U, CV_32F}) {
+    cv::Mat input;
+    image.convertTo(input, depth);
+    cv::Mat expected;
+    cv::remap(input, expected, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+    const cv::Mat rectified = undistorter.Apply(input);
+    EXPECT_EQ(rectified.depth(), depth);
+    EXPECT_LE(cv::norm(rectified, expected, cv::NORM_INF), 1e-3) << "depth " << depth;
   }
 }
 

@@ -30,6 +30,8 @@ class FolderImageSource : public ImageSource {
                     double fps, ImageSourceOptions options)
       : ImageSource(std::move(timestamps), fps, options), files_(std::move(files)) {}
 
+  ~FolderImageSource() override { StopReadingAhead(); }
+
   std::size_t FrameCount() const override { return files_.size(); }
 
  protected:
@@ -62,6 +64,8 @@ class VideoImageSource : public ImageSource {
     frame_count_ = count > 0 ? static_cast<std::size_t>(count) : 0;
   }
 
+  ~VideoImageSource() override { StopReadingAhead(); }
+
   std::size_t FrameCount() const override { return frame_count_; }
 
  protected:
@@ -78,7 +82,23 @@ class VideoImageSource : public ImageSource {
 
 }  // namespace
 
-cv::Mat ToFloatGrey(const cv::Mat& image) {
+double GreyLevelsPerUnit(int depth) {
+  switch (depth) {
+    case CV_8U:
+      return 1.0;
+    case CV_16U:
+      return 255.0 / 65535.0;
+    case CV_32F:
+    case CV_64F:
+      return 1.0;  // already in grey levels
+    default:
+      throw InputError("unsupported image depth (expected 8- or 16-bit)");
+  }
+}
+
+namespace {
+
+cv::Mat ToGrey(const cv::Mat& image) {
   cv::Mat grey;
   if (image.channels() == 3) {
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
@@ -87,21 +107,16 @@ cv::Mat ToFloatGrey(const cv::Mat& image) {
   } else {
     grey = image;
   }
-  double scale = 1.0;
-  switch (grey.depth()) {
-    case CV_8U:
-      break;
-    case CV_16U:
-      scale = 255.0 / 65535.0;
-      break;
-    case CV_32F:
-    case CV_64F:
-      break;  // already in grey levels
-    default:
-      throw InputError("unsupported image depth (expected 8- or 16-bit)");
-  }
+  GreyLevelsPerUnit(grey.depth());  // rejects other depths
+  return grey;
+}
+
+}  // namespace
+
+cv::Mat ToFloatGrey(const cv::Mat& image) {
+  const cv::Mat grey = ToGrey(image);
   cv::Mat result;
-  grey.convertTo(result, CV_32F, scale);
+  grey.convertTo(result, CV_32F, GreyLevelsPerUnit(grey.depth()));
   return result;
 }
 
@@ -200,10 +215,30 @@ double ImageSource::TimestampOf(std::size_t index) const {
   return static_cast<double>(index) / fps_;
 }
 
+ImageSource::RawFrame ImageSource::ReadNextRaw() {
+  RawFrame raw;
+  raw.more = ReadRaw(&raw.image, &raw.name);
+  return raw;
+}
+
+void ImageSource::StopReadingAhead() {
+  if (!ahead_.valid()) return;
+  try {
+    ahead_.get();
+  } catch (...) {
+    // The frame is not wanted any more, and neither is its error.
+  }
+}
+
 std::optional<Frame> ImageSource::Next() {
-  cv::Mat raw;
-  std::string name;
-  while (ReadRaw(&raw, &name)) {
+  while (true) {
+    RawFrame next = ahead_.valid() ? ahead_.get() : ReadNextRaw();
+    if (!next.more) return std::nullopt;
+    if (options_.read_ahead) {
+      ahead_ = std::async(std::launch::async, [this] { return ReadNextRaw(); });
+    }
+    const cv::Mat& raw = next.image;
+    const std::string& name = next.name;
     const std::size_t index = next_index_++;
     if (raw.empty()) {
       spdlog::warn("skipping unreadable frame {}", name);
@@ -222,13 +257,12 @@ std::optional<Frame> ImageSource::Next() {
     frame.timestamp = TimestampOf(index);
     frame.name = name;
     try {
-      frame.grey = ToFloatGrey(raw);
+      frame.grey = options_.native_depth ? ToGrey(raw) : ToFloatGrey(raw);
     } catch (const InputError& error) {
       throw InputError("frame " + name + ": " + error.what());
     }
     return frame;
   }
-  return std::nullopt;
 }
 
 }  // namespace pipescope

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -13,7 +14,9 @@
 namespace pipescope {
 
 // One frame of a sequence. `grey` is single-channel CV_32F in 8-bit grey levels (0..255; 16-bit
-// input is scaled by 255/65535) so thresholds mean the same for every input depth.
+// input is scaled by 255/65535) so thresholds mean the same for every input depth; with
+// ImageSourceOptions::native_depth it keeps the decoded depth (CV_8U or CV_16U; colour is still
+// made grey), and GreyLevelsPerUnit() gives the scale.
 struct Frame {
   std::size_t index = 0;  // position in the sequence, counting skipped frames
   double timestamp = 0.0;
@@ -25,6 +28,12 @@ struct ImageSourceOptions {
   // Expected frame size from camera.yaml; 0 disables the check.
   int expected_width = 0;
   int expected_height = 0;
+  // Frames in the depth they were decoded in, for pipelines that fold the conversion into their
+  // own first pass.
+  bool native_depth = false;
+  // Decode the next frame on a second thread while the caller works on this one: PNG decoding
+  // costs as much as a dense pair registration.
+  bool read_ahead = true;
 };
 
 // Streams the frames of a dataset one at a time, so a 26 000-frame run holds one frame in
@@ -51,10 +60,20 @@ class ImageSource {
   ImageSource(std::vector<double> timestamps, double fps, ImageSourceOptions options);
 
   // Reads the raw frame at the current position; returns false at the end. Sets `image` empty
-  // for an undecodable frame.
+  // for an undecodable frame. Called from one thread at a time, in order.
   virtual bool ReadRaw(cv::Mat* image, std::string* name) = 0;
 
+  // Waits for a frame being read ahead. Every derived class calls it first in its destructor:
+  // the reading thread uses the derived class's members.
+  void StopReadingAhead();
+
  private:
+  struct RawFrame {
+    bool more = false;  // false at the end of the sequence
+    cv::Mat image;
+    std::string name;
+  };
+  RawFrame ReadNextRaw();
   double TimestampOf(std::size_t index) const;
 
   std::vector<double> timestamps_;  // from the timestamps file; empty: index / fps
@@ -62,7 +81,12 @@ class ImageSource {
   ImageSourceOptions options_;
   std::size_t next_index_ = 0;
   std::vector<std::string> skipped_frames_;
+  std::future<RawFrame> ahead_;  // the next raw frame, when reading ahead
 };
+
+// The factor from a frame's pixel values to 8-bit grey levels: 255 / 65535 for CV_16U, 1 for
+// CV_8U and float.
+double GreyLevelsPerUnit(int depth);
 
 // Converts an 8- or 16-bit, grey or colour image to CV_32F grey in 8-bit grey levels.
 cv::Mat ToFloatGrey(const cv::Mat& image);

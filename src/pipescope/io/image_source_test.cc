@@ -43,6 +43,30 @@ TEST(ImageSource, StreamsSortedFramesConvertingDepthAndColour) {
   EXPECT_FALSE(source->Next().has_value());
 }
 
+TEST(ImageSource, NativeDepthAndReadAheadGiveTheSameFrames) {
+  const auto dir = MakeTestDirectory("source_native");
+  for (int i = 0; i < 5; ++i) {
+    cv::imwrite((dir / ("f" + std::to_string(i) + ".png")).string(),
+                cv::Mat(4, 6, i % 2 ? CV_16UC1 : CV_8UC1, cv::Scalar(10 * i + 1)));
+  }
+  auto reference = ImageSource::Open(FolderManifest(dir, 10.0), {.read_ahead = false});
+  auto native = ImageSource::Open(FolderManifest(dir, 10.0), {.native_depth = true});
+  for (int i = 0; i < 5; ++i) {
+    const std::optional<Frame> a = reference->Next();
+    const std::optional<Frame> b = native->Next();
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->name, b->name);
+    EXPECT_EQ(b->grey.depth(), i % 2 ? CV_16U : CV_8U);
+    const double value = i % 2 ? b->grey.at<std::uint16_t>(1, 2) : b->grey.at<std::uint8_t>(1, 2);
+    EXPECT_NEAR(value * GreyLevelsPerUnit(b->grey.depth()), a->grey.at<float>(1, 2), 1e-4);
+  }
+  EXPECT_FALSE(native->Next().has_value());
+  // A source dropped while a frame is being read ahead waits for it.
+  auto dropped = ImageSource::Open(FolderManifest(dir, 10.0));
+  ASSERT_TRUE(dropped->Next().has_value());
+  dropped.reset();
+}
+
 TEST(ImageSource, SkipsUnreadableFrameAndKeepsTimestampsOfOthers) {
   const auto dir = MakeTestDirectory("source_corrupt");
   cv::imwrite((dir / "a.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(1)));

@@ -14,35 +14,55 @@ struct DenseFrameOptions {
   int downsample = 4;  // 1 = full resolution
 };
 
-// The mean of each factor x factor block (the incomplete last row and column of blocks are
-// dropped): a full-resolution pixel x lands on (x + 0.5) / factor - 0.5, so a shift scales by
-// exactly 1 / factor. `factor` 1 returns `image` itself.
+// The mean of each factor x factor block of `image` times `weight` (the incomplete last row and
+// column of blocks are dropped), times `scale`: a full-resolution pixel x lands on
+// (x + 0.5) / factor - 0.5, so a shift scales by exactly 1 / factor. `image`: one channel,
+// CV_8U, CV_16U or CV_32F; `weight`: CV_32F of the same size, or empty for 1. Returns CV_32F.
+// One pass over the frame: gain correction and downsampling fold into it.
+cv::Mat WeightedBlockMean(const cv::Mat& image, const cv::Mat& weight, int factor,
+                          float scale = 1.0f);
+
+// The plain block mean: WeightedBlockMean without weights; `factor` 1 returns `image` itself.
 cv::Mat DownsampleByBlockMean(const cv::Mat& image, int factor);
+
+// The prepared frames' size and principal point for `camera` downsampled by `factor` (the
+// rectified camera keeps the camera's size and principal point; the block mean maps a
+// full-resolution pixel x to (x + 0.5) / factor - 0.5). Known before any tables are built, so
+// a pipeline can choose its band first. Throws InputError when the factor is not in 1..16.
+cv::Size PreparedFrameSize(const Camera& camera, int factor);
+cv::Point2d PreparedFramePrincipalPoint(const Camera& camera, int factor);
 
 class DenseFramePreparation {
  public:
-  // `gain_mask` may be empty (no correction). Throws InputError when the mask's size differs
-  // from the camera's or the factor is not in 1..16.
+  // `gain_mask` may be empty (no correction); `stretch` resamples the undistorted image line by
+  // line (image/undistortion.h; pipeline/foreshortening.h). Throws InputError when the mask's
+  // size differs from the camera's or the factor is not in 1..16.
   DenseFramePreparation(const Camera& camera, const cv::Mat& gain_mask,
-                        const DenseFrameOptions& options);
+                        const DenseFrameOptions& options, const LineStretch& stretch = {});
 
-  // `grey`: CV_32F in 8-bit grey levels, the camera's size. Returns the gain-corrected,
-  // undistorted, downsampled frame (CV_32F).
+  // `grey`: one channel, the camera's size, CV_8U, CV_16U (scaled to 8-bit grey levels) or
+  // CV_32F in 8-bit grey levels. Returns the gain-corrected, undistorted, downsampled frame
+  // (CV_32F). The frame is undistorted in its own depth and then gain-corrected with the
+  // undistorted correction factors, in the block mean's pass: the mask is smooth (000 §3.2), so
+  // this equals correcting first to well under a grey level, at a fraction of the cost.
   cv::Mat Prepare(const cv::Mat& grey) const;
 
-  // The reference scale at the prepared frames' resolution: zeta / downsample.
-  double ScaleAtPreparedResolution(double zeta_px_per_m) const {
-    return zeta_px_per_m / options_.downsample;
+  // The gain-corrected frame box-filtered by the factor without undistortion (the input of
+  // dense-unrolled, which resamples the distorted frame itself). Same `grey` as Prepare().
+  cv::Mat CorrectAndDownsample(const cv::Mat& grey) const;
+
+  cv::Point2d PreparedPrincipalPoint() const {
+    return PreparedFramePrincipalPoint(undistorter_.rectified_camera(), options_.downsample);
   }
-  // The principal point of the prepared frames, in their pixels (the downsampling maps a
-  // full-resolution pixel x to (x + 0.5) / factor - 0.5).
-  cv::Point2d PreparedPrincipalPoint() const;
-  cv::Size PreparedSize() const;
+  cv::Size PreparedSize() const {
+    return PreparedFrameSize(undistorter_.rectified_camera(), options_.downsample);
+  }
   int downsample() const { return options_.downsample; }
 
  private:
   Undistorter undistorter_;
-  cv::Mat gain_mask_;
+  cv::Mat correction_;            // gain correction factors, empty without a mask
+  cv::Mat rectified_correction_;  // the same, undistorted; 0 where the camera sees nothing
   DenseFrameOptions options_;
 };
 

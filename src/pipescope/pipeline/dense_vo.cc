@@ -12,6 +12,7 @@
 #include "pipescope/io/image_source.h"
 #include "pipescope/mapping/image_mosaic.h"
 #include "pipescope/mapping/unrolled_mosaic.h"
+#include "pipescope/pipeline/foreshortening.h"
 #include "pipescope/pipeline/unrolled_wall_registration.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
@@ -42,8 +43,10 @@ StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_
   return pose;
 }
 
+// `level` in 8-bit grey levels; `grey` in any depth.
 double SaturatedFraction(const cv::Mat& grey, double level) {
-  return static_cast<double>(cv::countNonZero(grey >= level)) / grey.total();
+  const double level_in_units = level / GreyLevelsPerUnit(grey.depth());
+  return static_cast<double>(cv::countNonZero(grey >= level_in_units)) / grey.total();
 }
 
 // Second pass of dense-unrolled: the frames on the unrolled wall at their estimated poses, one
@@ -125,10 +128,10 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
   const cv::Mat gain_mask =
       manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
-  const DenseFramePreparation preparation(camera, gain_mask, options.frames);
-  const double zeta_prepared = preparation.ScaleAtPreparedResolution(zeta);
-  const cv::Point2d principal_point = preparation.PreparedPrincipalPoint();
-  const cv::Size prepared_size = preparation.PreparedSize();
+  const double zeta_prepared = zeta / options.frames.downsample;
+  const cv::Point2d principal_point =
+      PreparedFramePrincipalPoint(camera, options.frames.downsample);
+  const cv::Size prepared_size = PreparedFrameSize(camera, options.frames.downsample);
   // The band of the prepared frame the planar methods register.
   const bool along_image_x = options.mount.axis_along_pipe.find('x') != std::string::npos;
   cv::Rect band(cv::Point(0, 0), prepared_size);
@@ -148,6 +151,22 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   }
   const cv::Point2d band_principal_point = principal_point - cv::Point2d(band.tl());
   const cv::Point2d band_centre(0.5 * (band.width - 1), 0.5 * (band.height - 1));
+  // The planar methods' frames resampled so that every line of the band moves at the same rate
+  // along the pipe, axial_ratio * zeta (pipeline/foreshortening.h).
+  double axial_ratio = 1.0;
+  LineStretch stretch;
+  if (!on_unrolled_wall && options.foreshortening_correction && radius > 0.0) {
+    const int factor = options.frames.downsample;
+    const std::vector<double> ratios = WallDepthRatios(
+        start, radius, wall_distance, CentralFocalLengthPx(camera), PrincipalPoint(camera),
+        along_image_x ? camera.Height() : camera.Width(), along_image_x);
+    const AxialScaleEqualisation equalisation =
+        EqualiseAxialScale(ratios, factor * (along_image_x ? band.y : band.x),
+                           factor * (along_image_x ? band.height : band.width), along_image_x);
+    axial_ratio = equalisation.axial_ratio;
+    stretch = equalisation.stretch;
+  }
+  const DenseFramePreparation preparation(camera, gain_mask, options.frames, stretch);
   std::unique_ptr<UnrolledWallRegistration> unrolled;
   if (on_unrolled_wall) {
     // Cells of the prepared frames' pixel footprint on the wall the camera faces.
@@ -161,22 +180,40 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                           options.method == DenseMethod::kHybrid);
   DenseVoResult result;
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
-  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
+  ImageSourceOptions source_options{camera.Width(), camera.Height()};
+  source_options.native_depth = true;  // the preparation converts in its first pass
+  auto source = ImageSource::Open(manifest, source_options);
   ProgressBar progress(DenseMethodName(options.method), source->FrameCount());
-  cv::Mat previous;
+  // Each frame is registered to the current key frame, not to the one before: a registration's
+  // sub-pixel bias then accrues once per key frame instead of once per frame (at 3 px a frame,
+  // 0.01 px is 0.3 % of the travel). A frame becomes the key frame when its shift from the key
+  // reaches key_frame_window_fraction of the full-search window, or its registration failed.
+  struct KeyFrame {
+    cv::Mat image;
+    Eigen::Isometry3d pose;
+    double travel = 0.0, roll = 0.0;  // dense-unrolled's state
+    cv::Point2d content_offset;       // the image mosaic's
+  };
+  std::optional<KeyFrame> key;
+  // The previous frame's motion from the key frame, and the last good frame's motion from the
+  // frame before with its time step (0: none yet), for the constant-velocity prediction.
+  cv::Point2d previous_shift(0.0, 0.0);
+  double previous_rotation = 0.0;
+  cv::Point2d velocity_shift(0.0, 0.0);
+  double velocity_rotation = 0.0, velocity_dt = 0.0;
   double previous_timestamp = 0.0;
-  Eigen::Isometry3d pose = start;
-  double travel = 0.0, roll = 0.0;  // dense-unrolled's state
-  cv::Point2d content_offset(0.0, 0.0);
-  std::optional<PairMotion> last_good;
-  double last_good_dt = 0.0;
+  const double key_shift_x =
+      options.key_frame_window_fraction * options.registration.full_search.max_shift_x_px;
+  const double key_shift_y =
+      options.key_frame_window_fraction * options.registration.full_search.max_shift_y_px;
   Timer timer;
+  Timer stage;
   while (std::optional<Frame> frame = source->Next()) {
+    result.reading_seconds += stage.Lap();
     cv::Mat current, mosaic_frame;
     const double saturated = SaturatedFraction(frame->grey, options.saturation_level);
     if (on_unrolled_wall) {
-      current =
-          unrolled->Unroll(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask));
+      current = unrolled->Unroll(preparation.CorrectAndDownsample(frame->grey));
     } else {
       mosaic_frame = preparation.Prepare(frame->grey);
       current = mosaic_frame(band);
@@ -184,12 +221,21 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     if (presmooth) {
       cv::GaussianBlur(current, current, cv::Size(), options.presmooth_sigma_px);
     }
+    result.preparing_seconds += stage.Lap();
     DenseFrameRecord record;
     record.index = frame->index;
     record.timestamp = frame->timestamp;
     record.name = frame->name;
-    if (!previous.empty()) {
+    Eigen::Isometry3d pose = start;
+    double travel = 0.0, roll = 0.0;  // dense-unrolled's state
+    cv::Point2d content_offset(0.0, 0.0);
+    bool new_key = true;
+    if (key) {
       const double dt = frame->timestamp - previous_timestamp;
+      // Constant velocity: the last good frame's motion, scaled to this time step.
+      const double ratio = velocity_dt > 0.0 ? dt / velocity_dt : 0.0;
+      const cv::Point2d step = velocity_shift * ratio;
+      const double step_rotation = velocity_rotation * ratio;
       PairMotion motion;
       if (saturated > options.max_saturated_fraction) {
         motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
@@ -198,43 +244,50 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         // dense-unrolled registers the unrolled pair with the hybrid method.
         const DenseMethod registration_method =
             on_unrolled_wall ? DenseMethod::kHybrid : options.method;
-        const cv::Point2d predicted = last_good && last_good_dt > 0.0
-                                          ? last_good->shift * (dt / last_good_dt)
-                                          : cv::Point2d(0.0, 0.0);
-        motion = RegisterPlanarPair(registration_method, previous, current, options.registration,
-                                    predicted);
+        motion = RegisterPlanarPair(registration_method, key->image, current, options.registration,
+                                    previous_shift + step);
       }
       if (motion.failure.empty()) {
-        last_good = motion;
-        last_good_dt = dt;
+        velocity_shift = motion.shift - previous_shift;
+        velocity_rotation = motion.rotation_rad - previous_rotation;
+        velocity_dt = dt;
       } else {
-        // Constant velocity (issue 5): the last good pair's motion, scaled to this time step.
         ++result.failed_pairs;
-        const double ratio = last_good && last_good_dt > 0.0 ? dt / last_good_dt : 0.0;
-        motion.shift = last_good ? last_good->shift * ratio : cv::Point2d(0.0, 0.0);
-        motion.rotation_rad = last_good ? last_good->rotation_rad * ratio : 0.0;
+        motion.shift = previous_shift + step;
+        motion.rotation_rad = previous_rotation + step_rotation;
       }
-      record.shift = motion.shift;
-      record.rotation_rad = motion.rotation_rad;
+      record.shift = motion.shift - previous_shift;
+      record.rotation_rad = motion.rotation_rad - previous_rotation;
       record.correlation = motion.correlation;
       record.still = motion.still;
       record.failure = motion.failure;
       if (on_unrolled_wall) {
-        travel += unrolled->TravelFromShift(motion.shift);
-        roll += unrolled->RollFromShift(motion.shift);
+        travel = key->travel + unrolled->TravelFromShift(motion.shift);
+        roll = key->roll + unrolled->RollFromShift(motion.shift);
         pose = PipeAxisMotion(start, travel, roll);
       } else {
-        pose = ApplyImageMotion(pose, motion.shift, motion.rotation_rad, zeta_prepared,
+        cv::Point2d metric_shift = motion.shift;
+        (along_image_x ? metric_shift.x : metric_shift.y) /= axial_ratio;
+        pose = ApplyImageMotion(key->pose, metric_shift, motion.rotation_rad, zeta_prepared,
                                 band_principal_point, band_centre);
       }
-      content_offset -= motion.shift;
+      content_offset = key->content_offset - motion.shift;
+      new_key = !motion.failure.empty() || std::abs(motion.shift.x) >= key_shift_x ||
+                std::abs(motion.shift.y) >= key_shift_y;
+      previous_shift = motion.shift;
+      previous_rotation = motion.rotation_rad;
+    }
+    if (new_key) {
+      key = KeyFrame{current, pose, travel, roll, content_offset};
+      previous_shift = cv::Point2d(0.0, 0.0);
+      previous_rotation = 0.0;
     }
     if (options.build_mosaic && !on_unrolled_wall) image_mosaic.Add(mosaic_frame, content_offset);
     result.trajectory.push_back(ToStampedPose(frame->timestamp, pose));
     result.frames.push_back(std::move(record));
-    previous = current;
     previous_timestamp = frame->timestamp;
     progress.Update(frame->index + 1);
+    result.registering_seconds += stage.Lap();
   }
   progress.Finish();
   result.registration_seconds = timer.ElapsedSeconds();

@@ -28,11 +28,21 @@ struct DenseVoOptions {
   CameraMount mount;
   // The planar methods register only this fraction of the prepared frame across the pipe (rows
   // for a camera whose image x runs along the pipe), centred on the principal point. A
-  // wall-looking camera sees the curved wall farther away towards the image's edges across the
-  // pipe (000 §6.2.3), so those rows move at a different rate from the centre's, and a
-  // translational fit over all rows is biased by the mean of that variation; the bias shrinks
-  // with the square of the band. 1 = the whole frame, as 000.
+  // wall-looking camera sees the concave wall nearer towards the image's edges across the pipe
+  // (000 §6.2.3), so those rows move faster than the centre's, and a translational fit over all
+  // rows is biased by the mean of that variation; the bias grows with the square of the band.
+  // 1 = the whole frame, as 000.
   double registration_band = 0.5;
+  // Frames are registered to a key frame, which is renewed when a frame's shift from it reaches
+  // this fraction of the full-search window (search_x_px, search_y_px) or a registration
+  // fails: a registration's sub-pixel bias accrues once per key frame, not once per frame.
+  // 0: every frame is registered to the one before, as 000.
+  double key_frame_window_fraction = 0.5;
+  // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
+  // line so that every line of the band moves at the same rate along the pipe, and that rate
+  // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
+  // principal point see the concave wall nearer and would move more. Off: 000 eq. 19 as written.
+  bool foreshortening_correction = true;
   // Gaussian smoothing of the registered frames (standard deviation, prepared pixels) for the
   // Gauss-Newton methods (dense-lk, dense-hybrid, dense-unrolled). Off by default: it trades
   // fine texture for what is left of the lighting pattern after gain correction, which stays put
@@ -56,7 +66,9 @@ struct DenseFrameRecord {
   std::size_t index = 0;
   double timestamp = 0.0;
   std::string name;
-  cv::Point2d shift;          // the image (or unrolled-grid) shift from the previous frame
+  // The image (or unrolled-grid) motion from the previous frame (the difference of the two
+  // frames' registrations to their key frame).
+  cv::Point2d shift;
   double rotation_rad = 0.0;  // phase only
   double correlation = 0.0;   // overlap ZNCC after registration
   bool still = false;
@@ -77,7 +89,12 @@ struct DenseVoResult {
   double mosaic_pixel_m = 0.0;  // dense-unrolled: the unrolled mosaic's cell size
   // dense-unrolled: (h, s) of the mosaic's cell (0, 0), metres.
   cv::Point2d mosaic_origin_m;
+  // Wall-clock seconds of the frame loop, and of its stages: reading and decoding the frames,
+  // preparing them (gain, undistortion or unrolling, downsampling), registering the pairs.
   double registration_seconds = 0.0;
+  double reading_seconds = 0.0;
+  double preparing_seconds = 0.0;
+  double registering_seconds = 0.0;
 };
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is

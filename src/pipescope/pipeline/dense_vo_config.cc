@@ -24,6 +24,8 @@ const std::set<std::string> kKeys = {"downsample",
                                      "mosaic",
                                      "mosaic_spacing_px",
                                      "registration_band",
+                                     "foreshortening_correction",
+                                     "key_frame_window_fraction",
                                      "presmooth_sigma_px"};
 
 void RequireRange(const std::filesystem::path& file, const std::string& key, double value,
@@ -90,6 +92,13 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "registration_band", *value, 0.05, 1.0);
     options->registration_band = *value;
   }
+  if (auto value = OptionalYamlValue<double>(root, "key_frame_window_fraction", path)) {
+    RequireRange(path, "key_frame_window_fraction", *value, 0.0, 0.9);
+    options->key_frame_window_fraction = *value;
+  }
+  if (auto value = OptionalYamlValue<bool>(root, "foreshortening_correction", path)) {
+    options->foreshortening_correction = *value;
+  }
   if (auto value = OptionalYamlValue<double>(root, "presmooth_sigma_px", path)) {
     RequireRange(path, "presmooth_sigma_px", *value, 0.0, 10.0);
     options->presmooth_sigma_px = *value;
@@ -119,6 +128,8 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
       {"max_rotation_deg", options.registration.phase.max_rotation_rad * 180.0 / std::numbers::pi},
       {"axis_along_pipe", options.mount.axis_along_pipe},
       {"registration_band", options.registration_band},
+      {"foreshortening_correction", options.foreshortening_correction},
+      {"key_frame_window_fraction", options.key_frame_window_fraction},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
       {"mosaic", options.build_mosaic},
       {"mosaic_spacing_px", options.mosaic_spacing_px},

@@ -5,7 +5,6 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
-#include "pipescope/pipeline/dense_frame_preparation.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
@@ -43,8 +42,7 @@ Eigen::Isometry3d PipeAxisMotion(const Eigen::Isometry3d& start_world_from_cam, 
 UnrolledWallRegistration::UnrolledWallRegistration(const Camera& camera,
                                                    const Eigen::Isometry3d& start_world_from_cam,
                                                    double radius_m, double pixel_m, int downsample,
-                                                   int margin_cells)
-    : downsample_(downsample) {
+                                                   int margin_cells) {
   const Eigen::Vector3d origin = start_world_from_cam.translation();
   const Eigen::Vector3d optical_axis = start_world_from_cam.linear().col(2);
   double h_centre = 0, s_centre = 0;
@@ -112,10 +110,9 @@ UnrolledWallRegistration::UnrolledWallRegistration(const Camera& camera,
   map_y_ = (map_y(rect) + 0.5) / factor - 0.5;
 }
 
-cv::Mat UnrolledWallRegistration::Unroll(const cv::Mat& frame) const {
-  const cv::Mat filtered = DownsampleByBlockMean(frame, downsample_);
+cv::Mat UnrolledWallRegistration::Unroll(const cv::Mat& filtered_frame) const {
   cv::Mat unrolled;
-  cv::remap(filtered, unrolled, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::remap(filtered_frame, unrolled, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   return unrolled;
 }
 

@@ -29,8 +29,9 @@ class UnrolledWallRegistration {
   UnrolledWallRegistration(const Camera& camera, const Eigen::Isometry3d& start_world_from_cam,
                            double radius_m, double pixel_m, int downsample, int margin_cells = 2);
 
-  // The unrolled image (CV_32F, grid-sized) of a full-resolution, gain-corrected frame.
-  cv::Mat Unroll(const cv::Mat& frame) const;
+  // The unrolled image (CV_32F, grid-sized) of a gain-corrected frame box-filtered by the
+  // `downsample` factor (DenseFramePreparation::CorrectAndDownsample).
+  cv::Mat Unroll(const cv::Mat& filtered_frame) const;
 
   // Motion along the wall from the shift t between two unrolled images (next(x + t) =
   // reference(x)): the camera travelled -t.x cells along the axis and -t.y cells around it.
@@ -43,7 +44,6 @@ class UnrolledWallRegistration {
 
  private:
   UnrolledGrid grid_;
-  int downsample_ = 1;
   cv::Mat map_x_;  // in the downsampled frame's pixels
   cv::Mat map_y_;
 };

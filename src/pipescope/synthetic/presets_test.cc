@@ -101,6 +101,13 @@ TEST(SimulationConfig, SetParsesAndValidatesKeys) {
             std::string::npos);
   EXPECT_NE(InputErrorMessage([&] { SetConfigValue(&config, "fps"); }).find("key=value"),
             std::string::npos);
+  EXPECT_EQ(GetConfigValue(config, "white_card_finish"), "wall");
+  SetConfigValue(&config, "white_card_finish=matte");
+  EXPECT_NO_THROW(ValidateConfig(config));
+  SetConfigValue(&config, "white_card_finish=glossy");
+  EXPECT_NE(InputErrorMessage([&] { ValidateConfig(config); }).find("white_card_finish"),
+            std::string::npos);
+  SetConfigValue(&config, "white_card_finish=wall");
   SetConfigValue(&config, "radius_m=-1");
   EXPECT_NE(InputErrorMessage([&] { ValidateConfig(config); }).find("radius_m"), std::string::npos);
   EXPECT_NE(InputErrorMessage([] { PresetConfig("sewer"); }).find("--preset"), std::string::npos);

@@ -58,38 +58,79 @@ void Renderer::RenderRows(const Eigen::Isometry3d& world_from_cam, const RenderS
   const Eigen::Matrix3d rotation_t = rotation.transpose();
   const Eigen::Vector3d origin = world_from_cam.translation();
   const int width = camera_.Width();
+  const bool uniform = settings.uniform_albedo >= 0.0f;
+  const auto uniform_specularity =
+      static_cast<float>(settings.specular_strength * settings.uniform_specularity);
+  // A row goes through three passes: cast every pixel's ray, texture every hit, light them all
+  // (SIMD across pixels). Each pixel is one long chain of dependent square roots, divisions and
+  // lookups; in short separate loops the CPU overlaps the chains of neighbouring pixels, which
+  // made the row about a third faster than one pass per pixel. The buffers live per thread: the
+  // work is split into many small row ranges.
+  struct Scratch {
+    std::vector<WallHit> hits;
+    std::vector<int> columns;
+    std::vector<double> footprints;
+    ShadingBatch batch;
+    std::vector<float> shaded;
+  };
+  thread_local Scratch scratch;
+  scratch.hits.resize(width);
+  scratch.columns.resize(width);
+  scratch.footprints.resize(width);
+  scratch.shaded.resize(width);
+  ShadingBatch& batch = scratch.batch;
+  const Scene::RayFan fan(scene_, origin);
   for (int y = row_begin; y < row_end; ++y) {
-    float* out = radiance->ptr<float>(y);
+    // Cast.
+    int count = 0;
     for (int x = 0; x < width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
-      out[x] = 0.0f;
-      if (bearings_[i].isZero()) continue;
-      const Ray ray{origin, rotation * bearings_[i]};
-      const std::optional<WallHit> hit = scene_.Intersect(ray);
-      if (!hit) continue;
-      const double cosine = std::abs(ray.direction.dot(hit->normal));
-      const double footprint =
-          hit->distance * pixel_angle_[i] / std::max(cosine, kMinFootprintCosine);
-      double albedo = settings.uniform_albedo;
-      double specularity = 0.0;
-      if (albedo < 0.0) {
-        const double circumference = 2.0 * M_PI * scene_.sections()[hit->section].radius;
-        const WallSample sample =
-            texture_.Sample(hit->section, hit->h_m, hit->s_m, circumference, footprint);
-        float painted_albedo = sample.albedo;
-        auto painted_specularity =
-            static_cast<float>(settings.specular_strength * sample.specularity);
-        if (settings.scale_target != nullptr) {
-          settings.scale_target->Paint(hit->section, hit->h_m, hit->s_m, footprint, &painted_albedo,
-                                       &painted_specularity);
-        }
-        albedo = painted_albedo;
-        specularity = painted_specularity;
-      }
-      const Eigen::Vector3d point_cam = rotation_t * (hit->point - origin);
-      const Eigen::Vector3d normal_cam = rotation_t * hit->normal;
-      out[x] = static_cast<float>(lighting_.Radiance(point_cam, normal_cam, albedo, specularity));
+      const Eigen::Vector3d& bearing = bearings_[i];
+      if (bearing.isZero()) continue;
+      const Eigen::Vector3d direction = rotation * bearing;
+      WallHit& hit = scratch.hits[count];
+      if (!fan.Intersect(direction, &hit)) continue;
+      const double cosine = std::abs(direction.dot(hit.normal));
+      scratch.footprints[count] =
+          hit.distance * pixel_angle_[i] / std::max(cosine, kMinFootprintCosine);
+      scratch.columns[count++] = x;
     }
+    // Texture, and the wall point in the camera frame for the light.
+    batch.Resize(count);
+    for (int k = 0; k < count; ++k) {
+      const WallHit& hit = scratch.hits[k];
+      const double footprint = scratch.footprints[k];
+      float albedo = settings.uniform_albedo;
+      float specularity = uniform_specularity;
+      if (!uniform) {
+        const double circumference = 2.0 * M_PI * scene_.sections()[hit.section].radius;
+        const WallSample sample =
+            texture_.Sample(hit.section, hit.h_m, hit.s_m, circumference, footprint);
+        albedo = sample.albedo;
+        specularity = static_cast<float>(settings.specular_strength * sample.specularity);
+        if (settings.scale_target != nullptr) {
+          settings.scale_target->Paint(hit.section, hit.h_m, hit.s_m, footprint, &albedo,
+                                       &specularity);
+        }
+      }
+      // The hit is origin + distance * rotation * bearing, so in the camera frame it lies at
+      // distance * bearing.
+      const Eigen::Vector3d& bearing =
+          bearings_[static_cast<std::size_t>(y) * width + scratch.columns[k]];
+      const Eigen::Vector3d normal_cam = rotation_t * hit.normal;
+      const float point[3] = {static_cast<float>(hit.distance * bearing.x()),
+                              static_cast<float>(hit.distance * bearing.y()),
+                              static_cast<float>(hit.distance * bearing.z())};
+      const float normal[3] = {static_cast<float>(normal_cam.x()),
+                               static_cast<float>(normal_cam.y()),
+                               static_cast<float>(normal_cam.z())};
+      batch.Set(k, point, normal, albedo, specularity);
+    }
+    // Light.
+    lighting_.Shade(batch, scratch.shaded.data());
+    float* out = radiance->ptr<float>(y);
+    std::fill(out, out + width, 0.0f);
+    for (int k = 0; k < count; ++k) out[scratch.columns[k]] = scratch.shaded[k];
   }
 }
 

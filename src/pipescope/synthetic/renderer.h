@@ -14,10 +14,12 @@
 namespace pipescope {
 
 struct RenderSettings {
-  // When set (>= 0), the wall is a matte card of this albedo instead of its texture: the
+  // When set (>= 0), the wall is a uniform card of this albedo instead of its texture: the
   // white-card images of 000 §3.2.
   float uniform_albedo = -1.0f;
-  double specular_strength = 1.0;  // scales the texture's specularity
+  // The card's specular reflectance (before specular_strength); 0 is a matte card.
+  float uniform_specularity = 0.0f;
+  double specular_strength = 1.0;  // scales the texture's (or the card's) specularity
   // When set, this reference-scale target (000 §3.3) is painted over the textured wall.
   const ScaleTarget* scale_target = nullptr;
 };

@@ -318,6 +318,7 @@ int Scene::AddStraight(const Vector3d& start, const Vector3d& end, double radius
   g.v = g.axis.cross(g.u);
   g.radius = radius;
   g.radius_sq = radius * radius;
+  g.inv_radius = 1 / radius;
   g.min_h = -kJointOverlap;
   g.max_h = length + kJointOverlap;
 
@@ -489,9 +490,9 @@ bool Scene::FirstBoundaryCrossing(const Ray& ray, double* distance, int* section
   return best < kInf;
 }
 
-WallHit Scene::MakeHit(const Ray& ray, double distance, int section) const {
+void Scene::MakeHit(const Ray& ray, double distance, int section, WallHit* out) const {
   const SectionGeometry& g = geometry_[section];
-  WallHit hit;
+  WallHit& hit = *out;
   hit.distance = distance;
   hit.point = ray.origin + distance * ray.direction;
   hit.section = section;
@@ -499,7 +500,9 @@ WallHit Scene::MakeHit(const Ray& ray, double distance, int section) const {
   double phi = 0;
   if (!g.is_bend) {
     const double x = local.dot(g.u), y = local.dot(g.v);
-    hit.normal = -(x * g.u + y * g.v).normalized();
+    // The hit lies on the wall, x^2 + y^2 = r^2 to rounding: dividing by the radius normalises
+    // without a square root and a division on the renderer's per-pixel path.
+    hit.normal = -g.inv_radius * (x * g.u + y * g.v);
     hit.h_m = local.dot(g.axis);
     phi = std::atan2(y, x);
   } else {
@@ -515,15 +518,64 @@ WallHit Scene::MakeHit(const Ray& ray, double distance, int section) const {
     phi = std::atan2(g.ref_axis * qu - g.ref_u * z, g.ref_axis * z + g.ref_u * qu);
   }
   hit.s_m = g.radius * WrapAngle(phi);
-  return hit;
 }
 
 std::optional<WallHit> Scene::Intersect(const Ray& ray) const {
+  WallHit hit;
+  if (!Intersect(ray, &hit)) return std::nullopt;
+  return hit;
+}
+
+bool Scene::Intersect(const Ray& ray, WallHit* hit) const {
+  // One straight pipe (most presets): the union is the section itself, so its first crossing is
+  // the answer, without the candidate list. The same arithmetic as the general path.
+  if (geometry_.size() == 1 && !geometry_[0].is_bend) {
+    Event events[2];
+    if (StraightEvents(geometry_[0], ray, events) == 0 || !events[0].wall) return false;
+    MakeHit(ray, events[0].t, 0, hit);
+    return true;
+  }
   double distance = 0;
   int section = -1;
   bool wall = false;
-  if (!FirstBoundaryCrossing(ray, &distance, &section, &wall) || !wall) return std::nullopt;
-  return MakeHit(ray, distance, section);
+  if (!FirstBoundaryCrossing(ray, &distance, &section, &wall) || !wall) return false;
+  MakeHit(ray, distance, section, hit);
+  return true;
+}
+
+Scene::RayFan::RayFan(const Scene& scene, const Vector3d& origin) : scene_(scene), origin_(origin) {
+  if (scene.geometry_.size() != 1 || scene.geometry_[0].is_bend) return;
+  const SectionGeometry& g = scene.geometry_[0];
+  const Vector3d o = origin - g.origin;
+  ox_ = o.dot(g.u);
+  oy_ = o.dot(g.v);
+  oz_ = o.dot(g.axis);
+  c_ = ox_ * ox_ + oy_ * oy_ - g.radius_sq;
+  fast_ = c_ < 0 && oz_ > g.min_h && oz_ < g.max_h;
+}
+
+bool Scene::RayFan::Intersect(const Vector3d& direction, WallHit* hit) const {
+  if (!fast_) return scene_.Intersect(Ray{origin_, direction}, hit);
+  const SectionGeometry& g = scene_.geometry_[0];
+  const double dx = direction.dot(g.u), dy = direction.dot(g.v), dz = direction.dot(g.axis);
+  const double a = dx * dx + dy * dy;
+  if (!(a > 0)) return false;  // along the axis: out through an open end
+  // StraightEvents()' roots q / a and c / q; inside the cylinder (c < 0) they have opposite
+  // signs and the ray leaves through the positive one. (q's sign decides, not b's: b may be -0.)
+  const double b = ox_ * dx + oy_ * dy;
+  const double q = -(b + std::copysign(std::sqrt(b * b - a * c_), b));
+  const double t = q < 0 ? c_ / q : q / a;
+  // Past the section's end the ray has left through the open disc first.
+  const double z = oz_ + t * dz;
+  if (!(z > g.min_h && z < g.max_h)) return false;
+  const double x = ox_ + t * dx, y = oy_ + t * dy;
+  hit->distance = t;
+  hit->point = origin_ + t * direction;
+  hit->normal = -g.inv_radius * (x * g.u + y * g.v);  // on the wall, as in MakeHit()
+  hit->section = 0;
+  hit->h_m = z;
+  hit->s_m = g.radius * WrapAngle(std::atan2(y, x));
+  return true;
 }
 
 bool Scene::Contains(const Vector3d& point) const {

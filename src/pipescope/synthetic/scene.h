@@ -77,6 +77,7 @@ struct SectionGeometry {
       Eigen::Vector3d::Zero();  // Straight: axis x reference. Bend: start direction.
   double radius = 0;
   double radius_sq = 0;
+  double inv_radius = 0;
   double min_h = 0, max_h = 0;  // Straight: axial range including the joint overlap.
   // Bends.
   double bend_radius = 0;
@@ -152,9 +153,30 @@ class Scene {
   // when it leaves through an open end of the network (the dark far end of a pipe) or never
   // leaves. Thread-safe, no heap allocation for scenes of up to 64 sections.
   std::optional<WallHit> Intersect(const Ray& ray) const;
+  // The same, writing the hit into *hit (left unspecified when there is none): the renderer's
+  // per-pixel call, without the optional's copy.
+  bool Intersect(const Ray& ray, WallHit* hit) const;
 
   // True when the point lies strictly inside the union of the interiors.
   bool Contains(const Eigen::Vector3d& point) const;
+
+  // Rays from one origin through many directions, as a camera casts them. In a scene of one
+  // straight section with the origin inside, what depends only on the origin is computed once
+  // and a ray costs one square root and one division; otherwise each ray goes to Intersect().
+  // The hits agree with Intersect()'s to rounding. Holds a reference to the scene.
+  class RayFan {
+   public:
+    RayFan(const Scene& scene, const Eigen::Vector3d& origin);
+    // As Scene::Intersect(ray, hit) for the ray from the origin along the unit `direction`.
+    bool Intersect(const Eigen::Vector3d& direction, WallHit* hit) const;
+
+   private:
+    const Scene& scene_;
+    Eigen::Vector3d origin_;
+    bool fast_ = false;                // one straight section, origin strictly inside
+    double ox_ = 0, oy_ = 0, oz_ = 0;  // origin in the section's frame
+    double c_ = 0;                     // ox^2 + oy^2 - r^2 < 0
+  };
 
  private:
   // The first boundary crossing of the union along the ray: its distance, section and whether
@@ -162,7 +184,7 @@ class Scene {
   bool FirstBoundaryCrossing(const Ray& ray, double* distance, int* section, bool* wall) const;
   // Whether a crossing of `section`'s boundary at `point` is a boundary of the union.
   bool OnUnionBoundary(int section, const Eigen::Vector3d& point, bool wall) const;
-  WallHit MakeHit(const Ray& ray, double distance, int section) const;
+  void MakeHit(const Ray& ray, double distance, int section, WallHit* hit) const;
 
   std::vector<PipeSection> sections_;
   std::vector<internal::SectionGeometry> geometry_;

@@ -154,6 +154,45 @@ TEST(SceneStraight, RaysFromAxisHitAtClosedFormDistance) {
   }
 }
 
+// The renderer's fan of rays from one origin agrees with Intersect(): from inside a straight
+// pipe (its fast path), near either end, on the axis, and from outside and in a network (where
+// it defers to Intersect()).
+TEST(SceneRayFan, AgreesWithIntersect) {
+  const Scene straight = StraightPipe();
+  const Scene network = SquareLoop(3.0, kRadius);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  struct Case {
+    const Scene* scene;
+    Vector3d origin;
+  };
+  const Case cases[] = {
+      {&straight, Vector3d(0, 0, 0.5)},      {&straight, Vector3d(0.05, -0.1, 1.2)},
+      {&straight, Vector3d(0.1, 0.1, -0.9)}, {&straight, Vector3d(0, 0, 2.95)},
+      {&straight, Vector3d(0.3, 0, 0.5)},    {&network, Vector3d(0.02, 0, 1.0)}};
+  for (const Case& c : cases) {
+    const Scene::RayFan fan(*c.scene, c.origin);
+    int hits = 0;
+    for (int i = 0; i < 2000; ++i) {
+      Vector3d d = Direction(normal(rng), normal(rng), 3 * normal(rng));
+      if (i == 0) d = Vector3d::UnitZ();  // along the axis: out through the open end
+      WallHit fan_hit;
+      const bool fan_found = fan.Intersect(d, &fan_hit);
+      const auto hit = c.scene->Intersect({c.origin, d});
+      ASSERT_EQ(fan_found, hit.has_value()) << c.origin.transpose() << " / " << d.transpose();
+      if (!hit) continue;
+      ++hits;
+      EXPECT_NEAR(fan_hit.distance, hit->distance, 1e-13);
+      EXPECT_LT((fan_hit.point - hit->point).norm(), 1e-13);
+      EXPECT_LT((fan_hit.normal - hit->normal).norm(), 1e-12);
+      EXPECT_EQ(fan_hit.section, hit->section);
+      EXPECT_NEAR(fan_hit.h_m, hit->h_m, 1e-13);
+      EXPECT_NEAR(fan_hit.s_m, hit->s_m, 1e-12);
+    }
+    EXPECT_GT(hits, 100) << c.origin.transpose();
+  }
+}
+
 TEST(SceneStraight, RaysAlongTheAxisEscapeThroughTheOpenEnds) {
   const Scene scene = StraightPipe();
   EXPECT_FALSE(scene.Intersect({Vector3d(0, 0, 0.5), Vector3d::UnitZ()}).has_value());

@@ -45,8 +45,11 @@ cv::Mat ApplySensor(const cv::Mat& radiance, const cv::Mat& vignetting,
       if (options.electrons_per_grey_level > 0) {
         variance += std::max(0.0, signal) / options.electrons_per_grey_level;
       }
-      const double value = signal + (variance > 0 ? rng.gaussian(std::sqrt(variance)) : 0.0);
-      out[x] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
+      const double value =
+          std::clamp(signal + (variance > 0 ? rng.gaussian(std::sqrt(variance)) : 0.0), 0.0, 255.0);
+      // std::lround (half away from zero) on [0, 255] without its library call.
+      const auto whole = static_cast<int>(value);
+      out[x] = static_cast<std::uint8_t>(whole + (value - whole >= 0.5 ? 1 : 0));
     }
   }
   return image;

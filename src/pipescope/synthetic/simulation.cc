@@ -87,7 +87,8 @@ Eigen::Isometry3d Simulation::FramePose(int index) const {
 }
 
 cv::Mat Simulation::RenderFrameRadiance(int index) const {
-  const RenderSettings settings{-1.0f, config_.specular_strength, scale_target()};
+  const RenderSettings settings{.specular_strength = config_.specular_strength,
+                                .scale_target = scale_target()};
   const double t = index / config_.fps;
   const int samples = config_.motion_blur_samples;
   if (samples <= 1) return renderer_->RenderRadiance(motion_->WorldFromCam(t), settings);
@@ -102,7 +103,21 @@ cv::Mat Simulation::RenderFrameRadiance(int index) const {
 
 cv::Mat Simulation::RenderWhiteCardRadiance(int index) const {
   const double s = layout_.start_s_m + layout_.travel_m * (index + 0.5) / config_.white_card_count;
-  return renderer_->RenderRadiance(motion_->NominalWorldFromCam(s), {kWhiteCardAlbedo, 0.0});
+  // A card with the wall's finish reflects the LEDs' highlight as the wall does, so the mask
+  // takes out the part of the sheen that stays put in the image (000 §6.2.1). Only a card whose
+  // highlight is to its diffuse light as the wall's is gives a mask that divides the wall's
+  // pattern flat: the uniform wall's reflectance scaled to the card's albedo. (Keeping the
+  // wall's specularity under a brighter diffuse albedo left a quarter of the variation on the
+  // steel presets.)
+  float specularity = 0.0f;
+  if (config_.white_card_finish == "wall") {
+    const WallSample wall = texture_.BaseSample();
+    specularity = wall.albedo > 0 ? wall.specularity * kWhiteCardAlbedo / wall.albedo : 0.0f;
+  }
+  const RenderSettings settings{.uniform_albedo = kWhiteCardAlbedo,
+                                .uniform_specularity = specularity,
+                                .specular_strength = config_.specular_strength};
+  return renderer_->RenderRadiance(motion_->NominalWorldFromCam(s), settings);
 }
 
 }  // namespace pipescope

@@ -25,8 +25,9 @@ class Simulation {
 
   // Linear radiance of frame `index` (averaged over the exposure when motion blur is on).
   cv::Mat RenderFrameRadiance(int index) const;
-  // Linear radiance of white card `index` of config.white_card_count: a matte white wall seen
-  // from a nominal pose along the route (000 §3.2).
+  // Linear radiance of white card `index` of config.white_card_count: a uniform white wall seen
+  // from a nominal pose along the route (000 §3.2), with the wall's specular finish or matte
+  // (config.white_card_finish).
   cv::Mat RenderWhiteCardRadiance(int index) const;
   // world_from_cam of frame `index`.
   Eigen::Isometry3d FramePose(int index) const;

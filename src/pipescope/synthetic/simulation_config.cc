@@ -84,6 +84,9 @@ const std::vector<KeyEntry>& KeyTable() {
       {{"exposure_time_s", "exposure time for motion blur, s"}, &SimulationConfig::exposure_time_s},
       {{"white_card_count", "white-card renders for the gain mask"},
        &SimulationConfig::white_card_count},
+      {{"white_card_finish",
+        "white cards: wall (the wall's own specular sheen, in the gain mask) | matte"},
+       &SimulationConfig::white_card_finish},
       {{"fps", "frame rate, 1/s"}, &SimulationConfig::fps},
       {{"frames", "number of frames"}, &SimulationConfig::frames},
       {{"speed_m_s", "mean driving speed, m/s"}, &SimulationConfig::speed_m_s},
@@ -265,6 +268,8 @@ void ValidateConfig(const SimulationConfig& c) {
           "must be in [0, 1 / fps]");
   Require(c.white_card_count >= 1 && c.white_card_count <= 100, "white_card_count",
           "must be in [1, 100]");
+  Require(one_of(c.white_card_finish, {"wall", "matte"}), "white_card_finish",
+          "must be wall or matte");
   Require(c.frames >= 1 && c.frames <= 10000000, "frames", "must be in [1, 10000000]");
   Require(c.speed_m_s >= 0, "speed_m_s", "must not be negative");
   Require(c.speed_variation >= 0 && c.speed_variation < 1, "speed_variation", "must be in [0, 1)");

@@ -67,6 +67,10 @@ struct SimulationConfig {
   int motion_blur_samples = 1;  // > 1 renders sub-frames over the exposure time
   double exposure_time_s = 0.01;
   int white_card_count = 5;
+  // wall: the white card has the wall's own finish (its material's specular sheen, in the same
+  // proportion to the diffuse light), so the gain mask holds the highlight as seen from the
+  // nominal pose (000 §6.2.1); matte: a Lambertian card, whose mask leaves the sheen.
+  std::string white_card_finish = "wall";
 
   // Motion.
   double fps = 7.5;

@@ -952,6 +952,11 @@ float WallTexture::Specularity(int section, double h_m, double s_m, double circu
   return Sample(section, h_m, s_m, circumference_m, kSpecularFootprintM).specularity;
 }
 
+WallSample WallTexture::BaseSample() const {
+  const MaterialLook& look = LookOf(options_.material);
+  return {look.base_albedo, look.specular_base};
+}
+
 WallSample WallTexture::Sample(int section, double h_m, double s_m, double circumference_m,
                                double footprint_m) const {
   const MaterialLook& look = LookOf(options_.material);

@@ -80,6 +80,10 @@ class WallTexture {
   WallSample Sample(int section, double h_m, double s_m, double circumference_m,
                     double footprint_m) const;
 
+  // The material's base albedo and specularity, what a uniform wall (texture_contrast 0) shows
+  // everywhere: the finish of a white card cut from this wall (000 §3.2).
+  WallSample BaseSample() const;
+
   // Layout of marking `index` (at h near (index + 0.3) * marking_spacing_m) of `section`.
   // Only meaningful when marking_spacing_m > 0.
   WallMarking Marking(int section, int index, double circumference_m) const;

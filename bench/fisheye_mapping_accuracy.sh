@@ -1,0 +1,50 @@
+#!/bin/bash
+# Accuracy and speed of `pipescope map` (issue 7, 001 §III A-C) on simulated 1280x960 190-degree
+# fisheye-poly imagery in a 400 mm pipe: (1) a straight pipe, 8.5 m of travel at 1 cm a frame;
+# (2) the fiberglass-network loop from its start through T1 and the T1-T2 straight section, at
+# 1 cm a frame. Per-section distance error (straight sections from the filtered classification),
+# whole-run metrics and frames per second end to end. Results are recorded in
+# docs/fisheye_mapping.md. Datasets are simulated once into OUT_DIR and kept.
+# Usage: bench/fisheye_mapping_accuracy.sh [BUILD_DIR] [OUT_DIR] [straight|network|both]
+set -euo pipefail
+BUILD_DIR=${1:-build}
+OUT=${2:-/tmp/pipescope_fisheye}
+WHICH=${3:-both}
+P=$BUILD_DIR/pipescope
+mkdir -p "$OUT"
+simulate() {  # name, frames, extra --set flags
+  local name=$1 frames=$2
+  shift 2
+  if [ ! -f "$OUT/$name/dataset.yaml" ]; then
+    "$P" simulate --preset fiberglass-network --frames "$frames" --set speed_m_s=0.075 \
+      --set speed_variation=0.05 "$@" --out "$OUT/$name" -q
+  fi
+}
+report() {  # run directory
+  python3 - "$1" <<'PY'
+import json, sys
+run = sys.argv[1]
+r = json.load(open(run + "/run.json"))
+m = json.load(open(run + "/metrics.json"))
+print(f"{run}: frames {r['counts']['frames']}, key frames {r['counts']['keyframes']}, "
+      f"unusable {r['counts']['frames_unusable']}, {r['fps_end_to_end']:.2f} frames/s end to end")
+for s in r["sections"]:
+    gt = s.get("distance_gt_m")
+    err = s.get("distance_error_pct")
+    print(f"  section {s['index']} {s['class']:15s} key frames {s['first_keyframe']:4d}-{s['last_keyframe']:4d}"
+          f"  est {s['distance_est_m']:.3f} m  gt {gt if gt is None else f'{gt:.3f}'} m  "
+          f"error {err if err is None else f'{err:+.2f}'} %")
+print(f"  whole run: distance_error_pct {m['distance_error_pct']}, ate_rmse_m {m['ate_rmse_m']}, "
+      f"rpe_1m_pct {m['rpe_1m_pct']}")
+PY
+}
+if [ "$WHICH" != network ]; then
+  simulate straight 850 --set layout=straight --set length_m=9
+  "$P" map "$OUT/straight" --out "$OUT/straight-run" -q >/dev/null
+  report "$OUT/straight-run"
+fi
+if [ "$WHICH" != straight ]; then
+  simulate network 1100
+  "$P" map "$OUT/network" --out "$OUT/network-run" -q >/dev/null
+  report "$OUT/network-run"
+fi

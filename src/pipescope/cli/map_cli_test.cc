@@ -1,0 +1,109 @@
+// End-to-end tests of `pipescope map` (001 §III A-C): a short simulated straight pass through
+// the 400 mm fiberglass pipe with the 190-degree fisheye gives a run directory whose files agree
+// with each other; bad input exits 2 naming the culprit and leaves no run directory behind.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "pipescope/cli/cli_testing.h"
+#include "pipescope/util/atomic_file.h"
+#include "pipescope/util/testing.h"
+
+namespace pipescope {
+namespace {
+
+int CountPoses(const std::string& path) {
+  std::ifstream in(path);
+  int count = 0;
+  for (std::string line; std::getline(in, line);) count += !line.empty() && line[0] != '#';
+  return count;
+}
+
+class MapCli : public testing::Test {
+ protected:
+  // 24 frames, 1 cm apart, at 640x480 (half the 001 camera's resolution) in a straight pipe.
+  static void SetUpTestSuite() {
+    dir_ = new std::filesystem::path(MakeTestDirectory("map_cli"));
+    const CommandResult simulate =
+        RunPipescope("simulate --preset fiberglass-network --out " + Path("ds") +
+                     " --frames 24 --set layout=straight --set length_m=2 --set speed_m_s=0.075"
+                     " --set width=640 --set height=480 --set white_card_count=1 -q");
+    ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+    WriteTextFileAtomically(*dir_ / "config.yaml", "window_interval: 8\nmin_cluster_size: 3\n");
+  }
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*dir_);
+    delete dir_;
+  }
+  static std::string Path(const std::string& name) { return (*dir_ / name).string(); }
+
+  static std::filesystem::path* dir_;
+};
+
+std::filesystem::path* MapCli::dir_ = nullptr;
+
+TEST_F(MapCli, WritesTheRunDirectory) {
+  const std::string run = Path("run");
+  const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + run + " --config " +
+                                            Path("config.yaml") + " -q");
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
+  EXPECT_EQ(report["command"], "map");
+  EXPECT_EQ(report["options"]["window_interval"], 8);
+  EXPECT_DOUBLE_EQ(report["options"]["radius_m"].get<double>(), 0.2);
+  const long long keyframes = report["counts"]["keyframes"];
+  EXPECT_GE(keyframes, 5);
+  ASSERT_EQ(report["keyframes"].size(), static_cast<std::size_t>(keyframes));
+  // A straight pipe: every key frame is classified straight, one section.
+  for (const nlohmann::json& keyframe : report["keyframes"]) {
+    EXPECT_EQ(keyframe["class"], "straight");
+  }
+  ASSERT_EQ(report["sections"].size(), 1u);
+  EXPECT_TRUE(report["sections"][0].contains("distance_error_pct"));
+  EXPECT_FALSE(report["windows"].empty());
+  EXPECT_EQ(CountPoses(run + "/keyframes.tum"), keyframes);
+  EXPECT_EQ(CountPoses(run + "/trajectory.tum"), report["counts"]["frames_localised"]);
+  EXPECT_EQ(report["counts"]["frames_localised"].get<long long>() +
+                report["counts"]["frames_unusable"].get<long long>(),
+            24);
+  const nlohmann::json metrics = nlohmann::json::parse(ReadTextFile(run + "/metrics.json"));
+  EXPECT_EQ(metrics["frames_gt"], 24);
+  const std::string ply = ReadTextFile(run + "/points_sparse.ply");
+  EXPECT_EQ(ply.rfind("ply\nformat ascii 1.0\n", 0), 0u);
+  EXPECT_NE(ply.find("element vertex " +
+                     std::to_string(report["counts"]["points_sparse"].get<long long>())),
+            std::string::npos);
+  const cv::Mat strip = cv::imread(run + "/classification.png", cv::IMREAD_UNCHANGED);
+  EXPECT_FALSE(strip.empty());
+}
+
+TEST_F(MapCli, BadInputExitsTwoAndNamesTheCulprit) {
+  struct Case {
+    std::string arguments;
+    std::string culprit;
+  };
+  WriteTextFileAtomically(*dir_ / "typo.yaml", "window_intervall: 5\n");
+  WriteTextFileAtomically(*dir_ / "value.yaml", "tau: big\n");
+  const std::string ds = Path("ds");
+  const std::vector<Case> cases = {
+      {ds + " --out " + Path("bad1") + " --config " + Path("typo.yaml"), "window_intervall"},
+      {ds + " --out " + Path("bad2") + " --config " + Path("value.yaml"), "tau"},
+      {ds + " --out " + Path("bad3") + " --config " + Path("missing.yaml"), "missing.yaml"},
+      {Path("no_such_dataset") + " --out " + Path("bad4"), "no_such_dataset"},
+      {ds + "/images --out " + Path("bad5"), "--camera"},
+  };
+  for (const Case& c : cases) {
+    const CommandResult result = RunPipescope("map " + c.arguments + " -q");
+    EXPECT_EQ(result.exit_status, 2) << c.arguments << "\n" << result.output;
+    EXPECT_NE(result.output.find(c.culprit), std::string::npos) << result.output;
+  }
+  for (const char* bad : {"bad1", "bad2", "bad3", "bad4", "bad5"}) {
+    EXPECT_FALSE(std::filesystem::exists(Path(bad))) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace pipescope

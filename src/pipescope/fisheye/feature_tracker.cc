@@ -1,0 +1,154 @@
+#include "pipescope/fisheye/feature_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "pipescope/fisheye/median.h"
+
+namespace pipescope {
+
+FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions& options)
+    : camera_(camera),
+      options_(options),
+      bearings_(camera, options.max_view_angle_deg * M_PI / 180.0) {
+  // Corners only where their whole descriptor region lies inside the field of view.
+  const int side = options_.descriptor.region_size_px;
+  cv::erode(bearings_.valid_mask(), detection_mask_,
+            cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+}
+
+std::vector<cv::Point2f> FeatureTracker::Detect(const cv::Mat& grey) const {
+  return DetectRegionHarris(grey, detection_mask_, options_.harris);
+}
+
+bool FeatureTracker::Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const {
+  return camera_.Unproject(Eigen::Vector2d(pixel.x, pixel.y), bearing);
+}
+
+void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
+                                  std::vector<TrackedFeature> features, TrackedKeyframe* keyframe) {
+  auto state = std::make_unique<KeyframeState>();
+  state->frame_index = frame_index;
+  state->grey = grey.clone();
+  state->features = std::move(features);
+  for (const TrackedFeature& feature : state->features) state->points.push_back(feature.pixel);
+  state->descriptors = ComputeTemplateDescriptors(grey, state->points, options_.descriptor);
+  keyframe->frame_index = frame_index;
+  keyframe->features = state->features;
+  last_ = std::move(state);
+}
+
+TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
+                                   TrackedKeyframe* keyframe) {
+  TrackingStep step;
+  const std::vector<cv::Point2f> points = Detect(grey);
+  if (!last_) {
+    std::vector<TrackedFeature> features;
+    for (const cv::Point2f& point : points) {
+      TrackedFeature feature;
+      if (!Bearing(point, &feature.bearing)) continue;
+      feature.track_id = next_track_id_++;
+      feature.pixel = point;
+      features.push_back(feature);
+    }
+    *keyframe = TrackedKeyframe();
+    MakeKeyframe(grey, frame_index, std::move(features), keyframe);
+    step.keyframe = true;
+    step.correspondence_fraction = 1.0;
+    return step;
+  }
+
+  const cv::Mat descriptors = ComputeTemplateDescriptors(grey, points, options_.descriptor);
+  const std::vector<FeatureMatch> matches = MatchByCosineSimilarity(
+      last_->descriptors, last_->points, descriptors, points, options_.matching);
+  std::vector<Eigen::Vector3d> bearings_i, bearings_j;
+  std::vector<FeatureMatch> usable_matches;
+  for (const FeatureMatch& match : matches) {
+    Eigen::Vector3d bearing_j;
+    if (!Bearing(points[match.index_b], &bearing_j)) continue;
+    bearings_i.push_back(last_->features[match.index_a].bearing);
+    bearings_j.push_back(bearing_j);
+    usable_matches.push_back(match);
+  }
+  const SphereRelativePose pose =
+      EstimateSphereRelativePose(bearings_i, bearings_j, options_.relative_pose);
+  step.inliers = pose.num_inliers;
+  if (!pose.success || pose.num_inliers < options_.min_inliers) {
+    step.usable = false;
+    step.failure = "only " + std::to_string(pose.num_inliers) + " of " +
+                   std::to_string(usable_matches.size()) +
+                   " template matches agree with one relative pose";
+    return step;
+  }
+  std::vector<double> flows;
+  for (std::size_t k = 0; k < usable_matches.size(); ++k) {
+    if (!pose.inliers[k]) continue;
+    flows.push_back(
+        cv::norm(last_->points[usable_matches[k].index_a] - points[usable_matches[k].index_b]));
+  }
+  step.median_flow_px = Median(flows);
+  step.correspondence_fraction =
+      static_cast<double>(pose.num_inliers) / std::max<std::size_t>(1, last_->features.size());
+  step.keyframe = step.median_flow_px >= options_.min_median_flow_px ||
+                  step.correspondence_fraction < options_.min_correspondence_fraction;
+  if (!step.keyframe) return step;
+
+  // The new key frame: inlier template matches keep their track ids ...
+  std::vector<TrackedFeature> features;
+  std::vector<char> matched_i(last_->features.size(), 0);
+  std::vector<char> used_j(points.size(), 0);
+  for (std::size_t k = 0; k < usable_matches.size(); ++k) {
+    if (!pose.inliers[k]) continue;
+    const FeatureMatch& match = usable_matches[k];
+    matched_i[match.index_a] = 1;
+    used_j[match.index_b] = 1;
+    features.push_back(
+        {last_->features[match.index_a].track_id, points[match.index_b], bearings_j[k]});
+  }
+  const int matches_cosine = static_cast<int>(features.size());
+  // ... the key frame's unmatched features are searched for by guided ZNCC ...
+  if (options_.guided_matching) {
+    for (std::size_t i = 0; i < last_->features.size(); ++i) {
+      if (matched_i[i]) continue;
+      const TrackedFeature& feature = last_->features[i];
+      const GuidedMatch guided = GuidedZnccSearch(last_->grey, grey, feature.pixel, feature.bearing,
+                                                  pose.essential, bearings_, options_.guided);
+      if (!guided.found) continue;
+      const int x = static_cast<int>(std::lround(guided.point_j.x));
+      const int y = static_cast<int>(std::lround(guided.point_j.y));
+      if (x < 0 || y < 0 || x >= grey.cols || y >= grey.rows || !detection_mask_.at<uchar>(y, x))
+        continue;
+      TrackedFeature tracked{feature.track_id, guided.point_j, Eigen::Vector3d()};
+      if (!Bearing(guided.point_j, &tracked.bearing)) continue;
+      features.push_back(tracked);
+    }
+  }
+  const int matches_guided = static_cast<int>(features.size()) - matches_cosine;
+  // ... and the remaining detections start new tracks, unless they duplicate a tracked one.
+  const double duplicate2 = options_.duplicate_radius_px * options_.duplicate_radius_px;
+  const std::size_t tracked_count = features.size();
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    if (used_j[j]) continue;
+    bool duplicate = false;
+    for (std::size_t k = matches_cosine; k < tracked_count && !duplicate; ++k) {
+      const cv::Point2f d = features[k].pixel - points[j];
+      duplicate = d.dot(d) < duplicate2;
+    }
+    if (duplicate) continue;
+    TrackedFeature feature{next_track_id_, points[j], Eigen::Vector3d()};
+    if (!Bearing(points[j], &feature.bearing)) continue;
+    ++next_track_id_;
+    features.push_back(feature);
+  }
+  *keyframe = TrackedKeyframe();
+  keyframe->has_previous = true;
+  keyframe->relative_pose = pose;
+  keyframe->matches_cosine = matches_cosine;
+  keyframe->matches_guided = matches_guided;
+  keyframe->median_flow_px = step.median_flow_px;
+  MakeKeyframe(grey, frame_index, std::move(features), keyframe);
+  return step;
+}
+
+}  // namespace pipescope

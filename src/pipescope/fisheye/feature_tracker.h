@@ -1,0 +1,105 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/fisheye/guided_zncc.h"
+#include "pipescope/fisheye/region_harris.h"
+#include "pipescope/fisheye/sphere_relative_pose.h"
+#include "pipescope/fisheye/template_descriptor.h"
+
+namespace pipescope {
+
+// Feature tracking with key framing (001 §III-A): region Harris, template descriptors matched by
+// cosine similarity against the last key frame, relative pose with RANSAC on the sphere,
+// epipolar-guided ZNCC for the key frame's unmatched features, and a new key frame when the
+// median flow is large enough or the share of corresponding features drops. Features are
+// tracked over many frames by matching key frame to key frame recursively: a matched feature
+// keeps its track id.
+struct FeatureTrackerOptions {
+  RegionHarrisOptions harris;
+  TemplateDescriptorOptions descriptor;
+  CosineMatchOptions matching;
+  SphereRelativePoseOptions relative_pose;
+  GuidedZnccOptions guided;
+  bool guided_matching = true;
+  // The lens's half angle of view (001: 190 degrees); no features beyond it.
+  double max_view_angle_deg = 95.0;
+  // Key frame when the median flow to the last key frame reaches this ...
+  double min_median_flow_px = 10.0;
+  // ... or the corresponding fraction of the key frame's features falls below this (001: "both
+  // minimums are selected empirically").
+  double min_correspondence_fraction = 0.4;
+  // Fewer RANSAC inliers than this: the frame cannot be used.
+  int min_inliers = 30;
+  // A new detection this close to a tracked feature is the same feature.
+  double duplicate_radius_px = 3.0;
+};
+
+struct TrackedFeature {
+  long track_id = -1;
+  cv::Point2f pixel;
+  Eigen::Vector3d bearing;
+};
+
+// A key frame's features and its link to the previous key frame.
+struct TrackedKeyframe {
+  int frame_index = 0;
+  std::vector<TrackedFeature> features;
+  // From the previous key frame: cam_this_from_cam_previous up to scale, and match counts.
+  bool has_previous = false;
+  SphereRelativePose relative_pose;
+  int matches_cosine = 0;
+  int matches_guided = 0;
+  double median_flow_px = 0.0;
+};
+
+struct TrackingStep {
+  bool keyframe = false;
+  bool usable = true;   // false: the frame could not be matched to the key frame
+  std::string failure;  // why not usable
+  double median_flow_px = 0.0;
+  double correspondence_fraction = 0.0;
+  int inliers = 0;
+};
+
+class FeatureTracker {
+ public:
+  FeatureTracker(const Camera& camera, const FeatureTrackerOptions& options = {});
+
+  // Tracks `grey` (CV_32F, the camera's size) against the last key frame. The first frame is
+  // always a key frame. When the step makes a key frame, `*keyframe` receives it.
+  TrackingStep Track(const cv::Mat& grey, int frame_index, TrackedKeyframe* keyframe);
+
+  // Starts over: the next frame becomes a key frame without a link to the previous one.
+  void Reset() { last_.reset(); }
+
+  const BearingTable& bearings() const { return bearings_; }
+
+ private:
+  struct KeyframeState {
+    int frame_index;
+    cv::Mat grey;
+    std::vector<TrackedFeature> features;
+    std::vector<cv::Point2f> points;
+    cv::Mat descriptors;
+  };
+
+  std::vector<cv::Point2f> Detect(const cv::Mat& grey) const;
+  bool Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const;
+  void MakeKeyframe(const cv::Mat& grey, int frame_index, std::vector<TrackedFeature> features,
+                    TrackedKeyframe* keyframe);
+
+  const Camera& camera_;
+  FeatureTrackerOptions options_;
+  BearingTable bearings_;
+  cv::Mat detection_mask_;
+  std::unique_ptr<KeyframeState> last_;
+  long next_track_id_ = 0;
+};
+
+}  // namespace pipescope

@@ -1,0 +1,135 @@
+#include "pipescope/fisheye/guided_zncc.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace pipescope {
+
+BearingTable::BearingTable(const Camera& camera, double max_view_angle_rad)
+    : bearings_(camera.Height(), camera.Width(), CV_32FC3, cv::Scalar::all(0)),
+      valid_(camera.Height(), camera.Width(), CV_8U, cv::Scalar(0)) {
+  Eigen::Vector3d bearing;
+  for (int y = 0; y < camera.Height(); ++y) {
+    for (int x = 0; x < camera.Width(); ++x) {
+      if (!camera.Unproject(Eigen::Vector2d(x, y), &bearing) ||
+          bearing.z() < std::cos(max_view_angle_rad)) {
+        continue;
+      }
+      bearings_.at<cv::Vec3f>(y, x) =
+          cv::Vec3f(static_cast<float>(bearing.x()), static_cast<float>(bearing.y()),
+                    static_cast<float>(bearing.z()));
+      valid_.at<uchar>(y, x) = 255;
+    }
+  }
+}
+
+namespace {
+
+// Zero-mean, unit-norm copy of a template; false when it is flat.
+bool NormaliseTemplate(const cv::Mat& patch, cv::Mat* normalised) {
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(patch, mean, stddev);
+  if (stddev[0] < 1e-3) return false;
+  cv::subtract(patch, mean, *normalised);
+  *normalised /= cv::norm(*normalised);
+  return true;
+}
+
+}  // namespace
+
+GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
+                             const cv::Point2f& point_i, const Eigen::Vector3d& bearing_i,
+                             const Eigen::Matrix3d& essential, const BearingTable& bearings,
+                             const GuidedZnccOptions& options) {
+  GuidedMatch match;
+  const int half = options.template_size_px / 2;
+  const int side = 2 * half + 1;
+  cv::Mat template_i;
+  cv::getRectSubPix(grey_i, cv::Size(side, side), point_i, template_i, CV_32F);
+  cv::Mat normalised_i;
+  if (!NormaliseTemplate(template_i, &normalised_i)) return match;
+  // Epipolar plane normal in image j; |eta_j . n| < threshold bounds the search region.
+  const Eigen::Vector3d normal = essential * bearing_i;
+  const int r = options.search_radius_px;
+  const int x0 = std::max(half, static_cast<int>(std::lround(point_i.x)) - r);
+  const int x1 = std::min(grey_j.cols - 1 - half, static_cast<int>(std::lround(point_i.x)) + r);
+  const int y0 = std::max(half, static_cast<int>(std::lround(point_i.y)) - r);
+  const int y1 = std::min(grey_j.rows - 1 - half, static_cast<int>(std::lround(point_i.y)) + r);
+  if (x1 < x0 || y1 < y0) return match;
+  cv::Mat scores(y1 - y0 + 1, x1 - x0 + 1, CV_32F, cv::Scalar(-2.f));
+  const float n0 = static_cast<float>(normal.x());
+  const float n1 = static_cast<float>(normal.y());
+  const float n2 = static_cast<float>(normal.z());
+  const float threshold = static_cast<float>(options.epipolar_threshold);
+  const int area = side * side;
+  float best = -2.f;
+  int best_x = -1, best_y = -1;
+  for (int y = y0; y <= y1; ++y) {
+    const cv::Vec3f* eta_row = bearings.bearing_mat().ptr<cv::Vec3f>(y);
+    const uchar* valid_row = bearings.valid_mask().ptr<uchar>(y);
+    for (int x = x0; x <= x1; ++x) {
+      if (!valid_row[x]) continue;
+      const cv::Vec3f& eta = eta_row[x];
+      if (std::abs(eta[0] * n0 + eta[1] * n1 + eta[2] * n2) >= threshold) continue;
+      // ZNCC against the zero-mean unit template: sum(t p) / sqrt(sum p^2 - (sum p)^2 / n).
+      float sum = 0.f, sum_sq = 0.f, cross = 0.f;
+      for (int v = -half; v <= half; ++v) {
+        const float* row = grey_j.ptr<float>(y + v) + x - half;
+        const float* t = normalised_i.ptr<float>(v + half);
+        for (int u = 0; u < side; ++u) {
+          sum += row[u];
+          sum_sq += row[u] * row[u];
+          cross += t[u] * row[u];
+        }
+      }
+      const float variance = sum_sq - sum * sum / area;
+      if (variance <= 1e-6f) continue;
+      const float score = cross / std::sqrt(variance);
+      scores.at<float>(y - y0, x - x0) = score;
+      if (score > best) {
+        best = score;
+        best_x = x;
+        best_y = y;
+      }
+    }
+  }
+  if (best_x < 0 || best < options.min_zncc) return match;
+  float runner_up = -2.f;
+  for (int y = 0; y < scores.rows; ++y) {
+    for (int x = 0; x < scores.cols; ++x) {
+      if (std::abs(x + x0 - best_x) <= 1 && std::abs(y + y0 - best_y) <= 1) continue;
+      runner_up = std::max(runner_up, scores.at<float>(y, x));
+    }
+  }
+  // Neighbouring pixels of a smooth peak score almost as high; only a distinct second peak
+  // counts, so compare with the best outside a 5x5 block instead when the 3x3 ring is high.
+  if (best - runner_up < options.min_peak_margin) {
+    float distinct = -2.f;
+    for (int y = 0; y < scores.rows; ++y) {
+      for (int x = 0; x < scores.cols; ++x) {
+        if (std::abs(x + x0 - best_x) <= 3 && std::abs(y + y0 - best_y) <= 3) continue;
+        distinct = std::max(distinct, scores.at<float>(y, x));
+      }
+    }
+    if (best - distinct < options.min_peak_margin) return match;
+  }
+  // Parabolic sub-pixel refinement where the neighbours were scored.
+  const auto score_at = [&](int x, int y) {
+    if (x < x0 || x > x1 || y < y0 || y > y1) return -2.f;
+    return scores.at<float>(y - y0, x - x0);
+  };
+  const auto parabola = [](float left, float centre, float right) {
+    const float denominator = left - 2.f * centre + right;
+    if (left < -1.5f || right < -1.5f || denominator >= 0.f) return 0.f;
+    return std::clamp(0.5f * (left - right) / denominator, -0.5f, 0.5f);
+  };
+  match.found = true;
+  match.zncc = best;
+  match.point_j = cv::Point2f(
+      best_x + parabola(score_at(best_x - 1, best_y), best, score_at(best_x + 1, best_y)),
+      best_y + parabola(score_at(best_x, best_y - 1), best, score_at(best_x, best_y + 1)));
+  return match;
+}
+
+}  // namespace pipescope

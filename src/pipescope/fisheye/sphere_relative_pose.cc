@@ -1,0 +1,236 @@
+#include "pipescope/fisheye/sphere_relative_pose.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace pipescope {
+namespace {
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+// Angle of eta_j from the epipolar plane of eta_i: eta_j^T (t x R eta_i) / |t x R eta_i|.
+struct SphereEpipolarResidual {
+  SphereEpipolarResidual(const Eigen::Vector3d& bearing_i, const Eigen::Vector3d& bearing_j)
+      : bearing_i_(bearing_i), bearing_j_(bearing_j) {}
+
+  template <typename T>
+  bool operator()(const T* quaternion_wxyz, const T* translation, T* residual) const {
+    const T eta_i[3] = {T(bearing_i_.x()), T(bearing_i_.y()), T(bearing_i_.z())};
+    T rotated[3];
+    ceres::QuaternionRotatePoint(quaternion_wxyz, eta_i, rotated);
+    T normal[3];
+    ceres::CrossProduct(translation, rotated, normal);
+    const T norm = ceres::sqrt(normal[0] * normal[0] + normal[1] * normal[1] +
+                               normal[2] * normal[2] + T(1e-18));
+    residual[0] = (T(bearing_j_.x()) * normal[0] + T(bearing_j_.y()) * normal[1] +
+                   T(bearing_j_.z()) * normal[2]) /
+                  norm;
+    return true;
+  }
+
+  Eigen::Vector3d bearing_i_;
+  Eigen::Vector3d bearing_j_;
+};
+
+void CountInliers(const Eigen::Matrix3d& essential, const std::vector<Eigen::Vector3d>& bearings_i,
+                  const std::vector<Eigen::Vector3d>& bearings_j, double threshold,
+                  std::vector<char>* inliers, int* count) {
+  inliers->assign(bearings_i.size(), 0);
+  *count = 0;
+  for (std::size_t k = 0; k < bearings_i.size(); ++k) {
+    if (SphereEpipolarError(essential, bearings_i[k], bearings_j[k]) < threshold) {
+      (*inliers)[k] = 1;
+      ++*count;
+    }
+  }
+}
+
+}  // namespace
+
+bool EssentialFromBearingsLinear(const std::vector<Eigen::Vector3d>& bearings_i,
+                                 const std::vector<Eigen::Vector3d>& bearings_j,
+                                 const std::vector<int>& indices, Eigen::Matrix3d* essential) {
+  if (indices.size() < 8) return false;
+  // eta_j^T E eta_i = sum_rc eta_j[r] eta_i[c] E(r, c): one row of A e = 0 per correspondence.
+  Eigen::Matrix<double, 9, 9> normal = Eigen::Matrix<double, 9, 9>::Zero();
+  for (int index : indices) {
+    Eigen::Matrix<double, 9, 1> row;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) row(3 * r + c) = bearings_j[index](r) * bearings_i[index](c);
+    }
+    normal.noalias() += row * row.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eigen(normal);
+  if (eigen.info() != Eigen::Success) return false;
+  // A rank-deficient system (fewer than 8 independent rows) has a second null vector.
+  if (eigen.eigenvalues()(1) < 1e-14 * eigen.eigenvalues()(8)) return false;
+  const Eigen::Matrix<double, 9, 1> e = eigen.eigenvectors().col(0);
+  Eigen::Matrix3d raw;
+  raw << e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7), e(8);
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(raw, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  *essential = svd.matrixU() * Eigen::Vector3d(1, 1, 0).asDiagonal() * svd.matrixV().transpose();
+  return true;
+}
+
+double SphereEpipolarError(const Eigen::Matrix3d& essential, const Eigen::Vector3d& bearing_i,
+                           const Eigen::Vector3d& bearing_j) {
+  const Eigen::Vector3d normal_j = essential * bearing_i;
+  const Eigen::Vector3d normal_i = essential.transpose() * bearing_j;
+  const double algebraic = std::abs(bearing_j.dot(normal_j));
+  const double norm_j = normal_j.norm();
+  const double norm_i = normal_i.norm();
+  if (norm_j < 1e-12 || norm_i < 1e-12) return algebraic;
+  return std::max(algebraic / norm_j, algebraic / norm_i);
+}
+
+bool TriangulateDepthsMidpoint(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
+                               const Eigen::Vector3d& bearing_i, const Eigen::Vector3d& bearing_j,
+                               double* depth_i, double* depth_j) {
+  // Minimise |d_j eta_j - (d_i R eta_i + t)|^2 over (d_i, d_j).
+  const Eigen::Vector3d a = rotation * bearing_i;
+  const Eigen::Vector3d& b = bearing_j;
+  const double ab = a.dot(b);
+  const double det = 1.0 - ab * ab;  // |a| = |b| = 1
+  if (det < 1e-12) return false;
+  const double at = a.dot(translation);
+  const double bt = b.dot(translation);
+  // [1, -ab; -ab, 1] [d_i; d_j] = [-at; bt]
+  *depth_i = (-at + ab * bt) / det;
+  *depth_j = (bt - ab * at) / det;
+  return true;
+}
+
+int DecomposeEssentialOnSphere(const Eigen::Matrix3d& essential,
+                               const std::vector<Eigen::Vector3d>& bearings_i,
+                               const std::vector<Eigen::Vector3d>& bearings_j,
+                               const std::vector<char>& inliers, Eigen::Matrix3d* rotation,
+                               Eigen::Vector3d* translation) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(essential, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  Eigen::Matrix3d v = svd.matrixV();
+  if (u.determinant() < 0) u = -u;
+  if (v.determinant() < 0) v = -v;
+  Eigen::Matrix3d w;
+  w << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  const Eigen::Matrix3d rotations[2] = {u * w * v.transpose(), u * w.transpose() * v.transpose()};
+  const Eigen::Vector3d t = u.col(2);
+  int best_count = -1;
+  for (const Eigen::Matrix3d& r : rotations) {
+    for (double sign : {1.0, -1.0}) {
+      int count = 0;
+      for (std::size_t k = 0; k < bearings_i.size(); ++k) {
+        if (!inliers.empty() && !inliers[k]) continue;
+        double depth_i, depth_j;
+        if (TriangulateDepthsMidpoint(r, sign * t, bearings_i[k], bearings_j[k], &depth_i,
+                                      &depth_j) &&
+            depth_i > 0 && depth_j > 0) {
+          ++count;
+        }
+      }
+      if (count > best_count) {
+        best_count = count;
+        *rotation = r;
+        *translation = sign * t;
+      }
+    }
+  }
+  return best_count;
+}
+
+SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>& bearings_i,
+                                              const std::vector<Eigen::Vector3d>& bearings_j,
+                                              const SphereRelativePoseOptions& options) {
+  SphereRelativePose result;
+  const int n = static_cast<int>(bearings_i.size());
+  if (n < 8 || bearings_j.size() != bearings_i.size()) return result;
+  std::mt19937_64 rng(options.seed);
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<int> sample(8);
+  std::vector<char> inliers;
+  int needed = options.max_iterations;
+  int iteration = 0;
+  for (; iteration < std::max(needed, options.min_iterations) && iteration < options.max_iterations;
+       ++iteration) {
+    // Eight distinct indices (partial Fisher-Yates).
+    for (int k = 0; k < 8; ++k) {
+      std::uniform_int_distribution<int> pick(k, n - 1);
+      std::swap(all[k], all[pick(rng)]);
+      sample[k] = all[k];
+    }
+    Eigen::Matrix3d essential;
+    if (!EssentialFromBearingsLinear(bearings_i, bearings_j, sample, &essential)) continue;
+    int count = 0;
+    CountInliers(essential, bearings_i, bearings_j, options.inlier_threshold_rad, &inliers, &count);
+    if (count > result.num_inliers) {
+      result.num_inliers = count;
+      result.essential = essential;
+      result.inliers = inliers;
+      const double inlier_ratio = static_cast<double>(count) / n;
+      const double all_inlier_probability = std::pow(inlier_ratio, 8);
+      needed = all_inlier_probability >= 1.0
+                   ? 0
+                   : static_cast<int>(std::ceil(std::log(1.0 - options.confidence) /
+                                                std::log(1.0 - all_inlier_probability + 1e-300)));
+    }
+  }
+  result.iterations = iteration;
+  if (result.num_inliers < 8) return result;
+
+  // Re-estimate linearly on all inliers, then pick the cheiral (R, t).
+  std::vector<int> inlier_indices;
+  for (int k = 0; k < n; ++k) {
+    if (result.inliers[k]) inlier_indices.push_back(k);
+  }
+  EssentialFromBearingsLinear(bearings_i, bearings_j, inlier_indices, &result.essential);
+  DecomposeEssentialOnSphere(result.essential, bearings_i, bearings_j, result.inliers,
+                             &result.rotation, &result.translation);
+
+  if (options.refine) {
+    Eigen::Quaterniond q(result.rotation);
+    double quaternion_wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+    double translation[3] = {result.translation.x(), result.translation.y(),
+                             result.translation.z()};
+    ceres::Problem problem;
+    for (int k : inlier_indices) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SphereEpipolarResidual, 1, 4, 3>(
+                                   new SphereEpipolarResidual(bearings_i[k], bearings_j[k])),
+                               new ceres::HuberLoss(options.inlier_threshold_rad), quaternion_wxyz,
+                               translation);
+    }
+    problem.SetManifold(quaternion_wxyz, new ceres::QuaternionManifold);
+    problem.SetManifold(translation, new ceres::SphereManifold<3>);
+    ceres::Solver::Options solver_options;
+    solver_options.max_num_iterations = options.refine_iterations;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+    if (summary.IsSolutionUsable()) {
+      result.rotation = Eigen::Quaterniond(quaternion_wxyz[0], quaternion_wxyz[1],
+                                           quaternion_wxyz[2], quaternion_wxyz[3])
+                            .normalized()
+                            .toRotationMatrix();
+      result.translation =
+          Eigen::Vector3d(translation[0], translation[1], translation[2]).normalized();
+      result.essential = Skew(result.translation) * result.rotation;
+      CountInliers(result.essential, bearings_i, bearings_j, options.inlier_threshold_rad,
+                   &result.inliers, &result.num_inliers);
+    }
+  }
+  result.success = result.num_inliers >= 8;
+  return result;
+}
+
+}  // namespace pipescope

@@ -1,0 +1,134 @@
+#include "pipescope/fisheye/sphere_relative_pose.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace pipescope {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / kPi;
+}
+
+double ColatitudeDeg(const Eigen::Vector3d& bearing) {
+  return std::acos(std::clamp(bearing.z(), -1.0, 1.0)) * 180.0 / kPi;
+}
+
+// Points on the wall of a 400 mm pipe around a forward-moving camera, seen from two poses;
+// about a third of the bearings lie beyond 90 degrees from the optical axis.
+struct SphereScene {
+  std::vector<Eigen::Vector3d> bearings_i, bearings_j;
+  Eigen::Matrix3d rotation;  // cam_j_from_cam_i
+  Eigen::Vector3d translation;
+  int beyond_90_deg = 0;
+};
+
+SphereScene MakeScene(double noise_rad, double outlier_fraction, std::uint64_t seed) {
+  SphereScene scene;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, noise_rad);
+  scene.rotation = (Eigen::AngleAxisd(0.04, Eigen::Vector3d::UnitX()) *
+                    Eigen::AngleAxisd(-0.03, Eigen::Vector3d::UnitY()) *
+                    Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()))
+                       .toRotationMatrix();
+  // Camera j is 30 mm ahead and 5 mm aside of camera i (in camera i's frame).
+  const Eigen::Vector3d centre_j_in_i(0.005, -0.002, 0.03);
+  scene.translation = -scene.rotation * centre_j_in_i;
+  const auto perturb = [&](const Eigen::Vector3d& bearing) {
+    return (bearing + Eigen::Vector3d(noise(rng), noise(rng), noise(rng))).normalized();
+  };
+  for (int k = 0; k < 300; ++k) {
+    const double phi = kPi * uniform(rng);
+    const double z = 0.6 * uniform(rng) + 0.1;  // from 0.5 m behind to 0.7 m ahead
+    const Eigen::Vector3d point_i(0.2 * std::cos(phi), 0.2 * std::sin(phi), z);
+    const Eigen::Vector3d point_j = scene.rotation * point_i + scene.translation;
+    Eigen::Vector3d eta_i = perturb(point_i.normalized());
+    Eigen::Vector3d eta_j = perturb(point_j.normalized());
+    if (k < outlier_fraction * 300) {
+      eta_j = Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)).normalized();
+    } else if (ColatitudeDeg(eta_i) > 90.0 && ColatitudeDeg(eta_j) > 90.0) {
+      ++scene.beyond_90_deg;
+    }
+    scene.bearings_i.push_back(eta_i);
+    scene.bearings_j.push_back(eta_j);
+  }
+  return scene;
+}
+
+TEST(SphereRelativePoseTest, RecoversKnownPoseWithBearingsBeyond90Degrees) {
+  const SphereScene scene = MakeScene(/*noise_rad=*/0.001, /*outlier_fraction=*/0.3, 7);
+  ASSERT_GT(scene.beyond_90_deg, 40);
+  const SphereRelativePose pose = EstimateSphereRelativePose(scene.bearings_i, scene.bearings_j);
+  ASSERT_TRUE(pose.success);
+  EXPECT_LT(AngleDeg(pose.rotation, scene.rotation), 0.1);
+  const double direction_error_deg =
+      std::acos(std::clamp(pose.translation.dot(scene.translation.normalized()), -1.0, 1.0)) *
+      180.0 / kPi;
+  EXPECT_LT(direction_error_deg, 2.0);
+  // The outliers (the first 30 %) are rejected, the inliers kept.
+  int true_inliers = 0, false_inliers = 0;
+  for (int k = 0; k < 300; ++k) {
+    if (!pose.inliers[k]) continue;
+    (k < 90 ? false_inliers : true_inliers)++;
+  }
+  EXPECT_GT(true_inliers, 0.95 * 210);
+  EXPECT_LT(false_inliers, 5);
+}
+
+TEST(SphereRelativePoseTest, ExactOnNoiseFreeBearingsBehindTheCamera) {
+  // Only bearings more than 90 degrees from the optical axis (z < 0): no pinhole normalisation
+  // exists for any of them.
+  SphereScene scene = MakeScene(0.0, 0.0, 11);
+  std::vector<Eigen::Vector3d> behind_i, behind_j;
+  for (std::size_t k = 0; k < scene.bearings_i.size(); ++k) {
+    if (scene.bearings_i[k].z() < 0 && scene.bearings_j[k].z() < 0) {
+      behind_i.push_back(scene.bearings_i[k]);
+      behind_j.push_back(scene.bearings_j[k]);
+    }
+  }
+  ASSERT_GE(behind_i.size(), 20u);
+  const SphereRelativePose pose = EstimateSphereRelativePose(behind_i, behind_j);
+  ASSERT_TRUE(pose.success);
+  EXPECT_EQ(pose.num_inliers, static_cast<int>(behind_i.size()));
+  EXPECT_LT(AngleDeg(pose.rotation, scene.rotation), 1e-6);
+  EXPECT_NEAR(pose.translation.dot(scene.translation.normalized()), 1.0, 1e-9);
+}
+
+TEST(SphereRelativePoseTest, LinearEssentialSatisfiesEpipolarConstraintAndDecomposes) {
+  const SphereScene scene = MakeScene(0.0, 0.0, 3);
+  std::vector<int> indices(scene.bearings_i.size());
+  for (std::size_t k = 0; k < indices.size(); ++k) indices[k] = static_cast<int>(k);
+  Eigen::Matrix3d essential;
+  ASSERT_TRUE(EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, indices, &essential));
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    EXPECT_LT(SphereEpipolarError(essential, scene.bearings_i[k], scene.bearings_j[k]), 1e-9);
+  }
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  const int positive = DecomposeEssentialOnSphere(essential, scene.bearings_i, scene.bearings_j, {},
+                                                  &rotation, &translation);
+  EXPECT_EQ(positive, static_cast<int>(indices.size()));
+  EXPECT_LT(AngleDeg(rotation, scene.rotation), 1e-6);
+  // The midpoint depths reproduce the point at the true scale.
+  double depth_i, depth_j;
+  ASSERT_TRUE(TriangulateDepthsMidpoint(scene.rotation, scene.translation, scene.bearings_i[0],
+                                        scene.bearings_j[0], &depth_i, &depth_j));
+  const Eigen::Vector3d point_i = depth_i * scene.bearings_i[0];
+  EXPECT_NEAR(std::hypot(point_i.x(), point_i.y()), 0.2, 1e-9);
+}
+
+TEST(SphereRelativePoseTest, TooFewCorrespondencesFail) {
+  const SphereScene scene = MakeScene(0.0, 0.0, 5);
+  const std::vector<Eigen::Vector3d> few_i(scene.bearings_i.begin(), scene.bearings_i.begin() + 7);
+  const std::vector<Eigen::Vector3d> few_j(scene.bearings_j.begin(), scene.bearings_j.begin() + 7);
+  EXPECT_FALSE(EstimateSphereRelativePose(few_i, few_j).success);
+}
+
+}  // namespace
+}  // namespace pipescope

@@ -1,0 +1,178 @@
+#include "pipescope/fisheye/straight_window_adjustment.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipescope/fisheye/fisheye_reprojection_error.h"
+#include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/straight_cylinder_error.h"
+#include "pipescope/util/timer.h"
+
+namespace pipescope {
+namespace {
+
+Eigen::Vector2d Residual(const Camera& camera, const StraightWindow& window,
+                         const WindowObservation& observation) {
+  double residual[2];
+  FisheyeReprojectionError error(camera.ModelId(), camera.Params(), observation.pixel);
+  const WindowPose& pose = window.poses[observation.pose];
+  error(pose.rotation, pose.translation, window.points[observation.point].data(), residual);
+  return Eigen::Vector2d(residual[0], residual[1]);
+}
+
+double ImageRms(const Camera& camera, const StraightWindow& window) {
+  double sum = 0.0;
+  int count = 0;
+  for (const WindowObservation& observation : window.observations) {
+    if (!observation.inlier) continue;
+    sum += Residual(camera, window, observation).squaredNorm();
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+double CylinderRms(const StraightWindowOptions& options, const StraightWindow& window) {
+  const StraightCylinderError error(options.radius_m, 1.0);
+  double sum = 0.0;
+  for (const Eigen::Vector3d& point : window.points) {
+    double residual;
+    error(window.cylinder, window.poses[0].rotation, window.poses[0].translation, point.data(),
+          &residual);
+    sum += residual * residual;
+  }
+  return window.points.empty() ? 0.0 : std::sqrt(sum / window.points.size());
+}
+
+}  // namespace
+
+WindowPose WindowPose::FromIsometry(const Eigen::Isometry3d& cam_from_world) {
+  WindowPose pose;
+  const Eigen::Quaterniond q(cam_from_world.rotation());
+  pose.rotation[0] = q.w();
+  pose.rotation[1] = q.x();
+  pose.rotation[2] = q.y();
+  pose.rotation[3] = q.z();
+  for (int k = 0; k < 3; ++k) pose.translation[k] = cam_from_world.translation()(k);
+  return pose;
+}
+
+Eigen::Isometry3d WindowPose::ToIsometry() const {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.linear() = Eigen::Quaterniond(rotation[0], rotation[1], rotation[2], rotation[3])
+                        .normalized()
+                        .toRotationMatrix();
+  result.translation() = Eigen::Vector3d(translation[0], translation[1], translation[2]);
+  return result;
+}
+
+double FitStraightCylinder(const StraightWindowOptions& options, StraightWindow* window) {
+  if (window->points.empty() || window->poses.empty()) return 0.0;
+  ceres::Problem problem;
+  for (Eigen::Vector3d& point : window->points) {
+    problem.AddResidualBlock(StraightCylinderError::Create(options.radius_m, 1.0),
+                             new ceres::HuberLoss(0.01), window->cylinder,
+                             window->poses[0].rotation, window->poses[0].translation, point.data());
+    problem.SetParameterBlockConstant(point.data());
+  }
+  problem.SetParameterBlockConstant(window->poses[0].rotation);
+  problem.SetParameterBlockConstant(window->poses[0].translation);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = 50;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  return CylinderRms(options, *window);
+}
+
+StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
+                                             const StraightWindowOptions& options,
+                                             StraightWindow* window) {
+  const Timer timer;
+  StraightWindowSummary summary;
+  summary.observations = static_cast<int>(window->observations.size());
+  summary.initial_rms_px = ImageRms(camera, *window);
+  if (window->poses.size() < 2 || window->points.empty()) return summary;
+  if (options.use_cylinder) FitStraightCylinder(options, window);
+
+  for (int stage = 0; stage < std::max(1, options.stages); ++stage) {
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    ceres::QuaternionManifold quaternion_manifold;
+    std::vector<int> observation_count(window->points.size(), 0);
+    for (const WindowObservation& observation : window->observations) {
+      if (observation.inlier) ++observation_count[observation.point];
+    }
+    for (const WindowObservation& observation : window->observations) {
+      if (!observation.inlier || observation_count[observation.point] < 2) continue;
+      WindowPose& pose = window->poses[observation.pose];
+      problem.AddResidualBlock(
+          FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), observation.pixel),
+          new ceres::HuberLoss(options.huber_px), pose.rotation, pose.translation,
+          window->points[observation.point].data());
+    }
+    if (options.use_cylinder) {
+      for (std::size_t k = 0; k < window->points.size(); ++k) {
+        if (observation_count[k] < 2) continue;
+        problem.AddResidualBlock(StraightCylinderError::Create(options.radius_m, options.tau),
+                                 new ceres::HuberLoss(options.huber_px), window->cylinder,
+                                 window->poses[0].rotation, window->poses[0].translation,
+                                 window->points[k].data());
+      }
+    }
+    for (WindowPose& pose : window->poses) {
+      if (problem.HasParameterBlock(pose.rotation)) {
+        problem.SetManifold(pose.rotation, &quaternion_manifold);
+      }
+    }
+    if (problem.HasParameterBlock(window->poses[0].rotation)) {
+      problem.SetParameterBlockConstant(window->poses[0].rotation);
+      problem.SetParameterBlockConstant(window->poses[0].translation);
+    }
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+    solver_options.max_num_iterations = options.max_iterations_per_stage;
+    solver_options.num_threads = options.num_threads;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary solver_summary;
+    ceres::Solve(solver_options, &problem, &solver_summary);
+
+    if (stage + 1 >= options.stages) break;
+    // Median absolute deviation of the signed Huber-weighted errors (both components).
+    std::vector<double> weighted;
+    std::vector<Eigen::Vector2d> per_observation(window->observations.size());
+    for (std::size_t k = 0; k < window->observations.size(); ++k) {
+      const WindowObservation& observation = window->observations[k];
+      if (!observation.inlier) continue;
+      const Eigen::Vector2d e = Residual(camera, *window, observation);
+      const double norm = e.norm();
+      const double weight = norm <= options.huber_px ? 1.0 : options.huber_px / norm;
+      per_observation[k] = std::sqrt(weight) * e;
+      weighted.push_back(per_observation[k].x());
+      weighted.push_back(per_observation[k].y());
+    }
+    const double median = Median(weighted);
+    std::vector<double> deviations;
+    deviations.reserve(weighted.size());
+    for (double value : weighted) deviations.push_back(std::abs(value - median));
+    const double mad = std::max(options.min_mad_px, 1.4826 * Median(deviations));
+    for (std::size_t k = 0; k < window->observations.size(); ++k) {
+      WindowObservation& observation = window->observations[k];
+      if (!observation.inlier) continue;
+      if (std::abs(per_observation[k].x() - median) > options.mad_factor * mad ||
+          std::abs(per_observation[k].y() - median) > options.mad_factor * mad) {
+        observation.inlier = false;
+        ++summary.outliers_removed;
+      }
+    }
+  }
+  summary.final_rms_px = ImageRms(camera, *window);
+  summary.cylinder_rms_m = options.use_cylinder ? CylinderRms(options, *window) : 0.0;
+  summary.seconds = timer.ElapsedSeconds();
+  return summary;
+}
+
+}  // namespace pipescope

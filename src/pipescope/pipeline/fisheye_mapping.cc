@@ -1,0 +1,354 @@
+#include "pipescope/pipeline/fisheye_mapping.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "pipescope/fisheye/fisheye_reprojection_error.h"
+#include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/sphere_relative_pose.h"
+#include "pipescope/io/image_source.h"
+#include "pipescope/util/progress.h"
+#include "pipescope/util/timer.h"
+
+namespace pipescope {
+namespace {
+
+struct Observation {
+  int keyframe;
+  Eigen::Vector2d pixel;
+  Eigen::Vector3d bearing;
+};
+
+struct Track {
+  std::vector<Observation> observations;
+  bool has_point = false;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+};
+
+double ReprojectionErrorPx(const Camera& camera, const Eigen::Isometry3d& cam_from_world,
+                           const Eigen::Vector3d& point, const Eigen::Vector2d& observed) {
+  Eigen::Vector2d pixel;
+  const ProjectionStatus status = camera.Project(cam_from_world * point, &pixel);
+  if (status == ProjectionStatus::kBehindCamera) return 1e9;
+  return (pixel - observed).norm();
+}
+
+// The key frame's pose refined on the reprojection errors of the already triangulated points
+// (Huber), the points held fixed.
+void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                const std::vector<Eigen::Vector2d>& pixels, double huber_px,
+                Eigen::Isometry3d* cam_from_world) {
+  WindowPose pose = WindowPose::FromIsometry(*cam_from_world);
+  std::vector<Eigen::Vector3d> fixed = points;
+  ceres::Problem problem;
+  for (std::size_t k = 0; k < fixed.size(); ++k) {
+    problem.AddResidualBlock(
+        FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), pixels[k]),
+        new ceres::HuberLoss(huber_px), pose.rotation, pose.translation, fixed[k].data());
+    problem.SetParameterBlockConstant(fixed[k].data());
+  }
+  problem.SetManifold(pose.rotation, new ceres::QuaternionManifold);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = 10;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (summary.IsSolutionUsable()) *cam_from_world = pose.ToIsometry();
+}
+
+StampedPose ToStamped(double timestamp, const Eigen::Isometry3d& world_from_cam) {
+  StampedPose pose;
+  pose.timestamp = timestamp;
+  pose.rotation = Eigen::Quaterniond(world_from_cam.rotation()).normalized();
+  pose.position = world_from_cam.translation();
+  return pose;
+}
+
+// Straight-section and T visual odometry over the tracked key frames (001 §III-C).
+class KeyframeOdometry {
+ public:
+  KeyframeOdometry(const Camera& camera, const FisheyeMappingOptions& options,
+                   const std::vector<TrackedKeyframe>& tracked, FisheyeMappingResult* result)
+      : camera_(camera), options_(options), tracked_(tracked), result_(result) {}
+
+  void Run() {
+    const int n = static_cast<int>(tracked_.size());
+    cam_from_world_.assign(n, Eigen::Isometry3d::Identity());
+    for (int k = 0; k < n; ++k) {
+      AddObservations(k);
+      if (k > 0) EstimatePose(k);
+      Triangulate(k);
+      const FisheyeSection& section = result_->sections[result_->keyframes[k].section];
+      const int in_section = k - section.first_keyframe + 1;
+      if (in_section >= 3 &&
+          (in_section % options_.window_interval == 0 || k == section.last_keyframe)) {
+        AdjustWindow(std::max(section.first_keyframe, k - options_.window_size + 1), k,
+                     result_->keyframes[k].section, section.view_class == PipeViewClass::kStraight);
+      }
+    }
+    for (int k = 0; k < n; ++k) result_->keyframes[k].world_from_cam = cam_from_world_[k].inverse();
+    for (const auto& [id, track] : tracks_) {
+      if (!track.has_point) continue;
+      result_->points.push_back(
+          {track.point, result_->keyframes[track.observations.front().keyframe].section});
+    }
+  }
+
+ private:
+  void AddObservations(int k) {
+    for (const TrackedFeature& feature : tracked_[k].features) {
+      tracks_[feature.track_id].observations.push_back(
+          {k, Eigen::Vector2d(feature.pixel.x, feature.pixel.y), feature.bearing});
+    }
+  }
+
+  // Five-point (here: RANSAC on the sphere) direction, scale from the earlier structure, then
+  // a pose-only refinement on the triangulated points.
+  void EstimatePose(int k) {
+    const TrackedKeyframe& keyframe = tracked_[k];
+    if (!keyframe.has_previous) {
+      cam_from_world_[k] = cam_from_world_[k - 1];
+      return;
+    }
+    const Eigen::Matrix3d& rotation = keyframe.relative_pose.rotation;
+    const Eigen::Vector3d& direction = keyframe.relative_pose.translation;
+    std::vector<double> ratios, radial;
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (const TrackedFeature& feature : keyframe.features) {
+      const Track& track = tracks_[feature.track_id];
+      if (track.observations.size() < 2) continue;
+      const Observation& previous = track.observations[track.observations.size() - 2];
+      if (previous.keyframe != k - 1) continue;
+      double depth_i, depth_j;
+      const bool triangulated = TriangulateDepthsMidpoint(rotation, direction, previous.bearing,
+                                                          feature.bearing, &depth_i, &depth_j);
+      const Eigen::Vector3d unit_point = depth_i * previous.bearing;
+      if (track.has_point) {
+        points.push_back(track.point);
+        pixels.emplace_back(feature.pixel.x, feature.pixel.y);
+        const double parallax = std::acos(
+            std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
+        if (triangulated && depth_i > 0 && depth_j > 0 &&
+            parallax > options_.min_scale_parallax_rad) {
+          ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
+        }
+      } else if (triangulated && depth_i > 0 && depth_j > 0) {
+        radial.push_back(std::hypot(unit_point.x(), unit_point.y()));
+      }
+    }
+    double scale = last_scale_;
+    if (ratios.size() >= 5) {
+      scale = Median(ratios);
+    } else if (!have_scale_ && radial.size() >= 10) {
+      // No structure yet: the camera looks along the pipe, so the points' median distance from
+      // its optical axis is about the supplied radius.
+      scale = options_.window.radius_m / Median(radial);
+    }
+    have_scale_ = true;
+    last_scale_ = scale;
+    result_->keyframes[k].points_used = static_cast<int>(ratios.size());
+    Eigen::Isometry3d cam_k_from_previous = Eigen::Isometry3d::Identity();
+    cam_k_from_previous.linear() = rotation;
+    cam_k_from_previous.translation() = scale * direction;
+    cam_from_world_[k] = cam_k_from_previous * cam_from_world_[k - 1];
+    if (points.size() >= 10) {
+      RefinePose(camera_, points, pixels, options_.window.huber_px, &cam_from_world_[k]);
+    }
+  }
+
+  void Triangulate(int k) {
+    const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
+    for (const TrackedFeature& feature : tracked_[k].features) {
+      Track& track = tracks_[feature.track_id];
+      if (track.has_point || track.observations.size() < 2) continue;
+      const Observation& first = track.observations.front();
+      const Observation& last = track.observations.back();
+      const Eigen::Isometry3d last_from_first =
+          cam_from_world_[last.keyframe] * cam_from_world_[first.keyframe].inverse();
+      const Eigen::Vector3d ray_first_in_last = last_from_first.linear() * first.bearing;
+      if (std::acos(std::clamp(ray_first_in_last.dot(last.bearing), -1.0, 1.0)) < min_angle) {
+        continue;
+      }
+      double depth_first, depth_last;
+      if (!TriangulateDepthsMidpoint(last_from_first.linear(), last_from_first.translation(),
+                                     first.bearing, last.bearing, &depth_first, &depth_last) ||
+          depth_first <= 0 || depth_last <= 0) {
+        continue;
+      }
+      const Eigen::Vector3d point =
+          cam_from_world_[first.keyframe].inverse() * (depth_first * first.bearing);
+      if (ReprojectionErrorPx(camera_, cam_from_world_[first.keyframe], point, first.pixel) >
+              options_.max_triangulation_error_px ||
+          ReprojectionErrorPx(camera_, cam_from_world_[last.keyframe], point, last.pixel) >
+              options_.max_triangulation_error_px) {
+        continue;
+      }
+      track.has_point = true;
+      track.point = point;
+    }
+  }
+
+  void AdjustWindow(int first, int last, int section, bool cylinder) {
+    StraightWindow window;
+    for (int k = first; k <= last; ++k) {
+      window.poses.push_back(WindowPose::FromIsometry(cam_from_world_[k]));
+    }
+    std::vector<Track*> window_tracks;
+    for (auto& [id, track] : tracks_) {
+      if (!track.has_point) continue;
+      int count = 0;
+      for (const Observation& observation : track.observations) {
+        count += observation.keyframe >= first && observation.keyframe <= last ? 1 : 0;
+      }
+      if (count < 2) continue;
+      const int point_index = static_cast<int>(window.points.size());
+      window.points.push_back(track.point);
+      window_tracks.push_back(&track);
+      for (const Observation& observation : track.observations) {
+        if (observation.keyframe < first || observation.keyframe > last) continue;
+        window.observations.push_back(
+            {observation.keyframe - first, point_index, observation.pixel, true});
+      }
+    }
+    if (window.points.size() < 10) return;
+    StraightWindowOptions window_options = options_.window;
+    window_options.use_cylinder = cylinder;
+    FisheyeWindowRecord record;
+    record.section = section;
+    record.first_keyframe = first;
+    record.last_keyframe = last;
+    record.points = static_cast<int>(window.points.size());
+    record.cylinder = cylinder;
+    record.summary = OptimiseStraightWindow(camera_, window_options, &window);
+    for (int k = first; k <= last; ++k) cam_from_world_[k] = window.poses[k - first].ToIsometry();
+    for (std::size_t p = 0; p < window_tracks.size(); ++p)
+      window_tracks[p]->point = window.points[p];
+    result_->windows.push_back(record);
+  }
+
+  const Camera& camera_;
+  const FisheyeMappingOptions& options_;
+  const std::vector<TrackedKeyframe>& tracked_;
+  FisheyeMappingResult* result_;
+  std::vector<Eigen::Isometry3d> cam_from_world_;
+  std::unordered_map<long, Track> tracks_;
+  double last_scale_ = 0.0;
+  bool have_scale_ = false;
+};
+
+void BuildSections(FisheyeMappingResult* result) {
+  for (int k = 0; k < static_cast<int>(result->keyframes.size()); ++k) {
+    FisheyeKeyframe& keyframe = result->keyframes[k];
+    if (result->sections.empty() || result->sections.back().view_class != keyframe.filtered_class) {
+      result->sections.push_back({k, k, keyframe.filtered_class});
+    }
+    result->sections.back().last_keyframe = k;
+    keyframe.section = static_cast<int>(result->sections.size()) - 1;
+  }
+}
+
+// Every frame's pose: key frames as estimated, frames between two key frames interpolated
+// (linear position, slerp rotation) by timestamp, frames after the last key frame at its pose.
+void InterpolateTrajectory(const std::vector<std::pair<int, double>>& frames,
+                           FisheyeMappingResult* result) {
+  std::size_t next = 0;
+  const std::vector<FisheyeKeyframe>& keyframes = result->keyframes;
+  for (const auto& [index, timestamp] : frames) {
+    while (next < keyframes.size() && keyframes[next].frame_index < index) ++next;
+    if (next < keyframes.size() && keyframes[next].frame_index == index) {
+      result->trajectory.push_back(ToStamped(timestamp, keyframes[next].world_from_cam));
+    } else if (next == 0) {
+      continue;
+    } else if (next == keyframes.size()) {
+      result->trajectory.push_back(ToStamped(timestamp, keyframes.back().world_from_cam));
+    } else {
+      const FisheyeKeyframe& a = keyframes[next - 1];
+      const FisheyeKeyframe& b = keyframes[next];
+      const double s = (timestamp - a.timestamp) / std::max(1e-12, b.timestamp - a.timestamp);
+      StampedPose pose;
+      pose.timestamp = timestamp;
+      pose.position = (1 - s) * a.world_from_cam.translation() + s * b.world_from_cam.translation();
+      pose.rotation = Eigen::Quaterniond(a.world_from_cam.rotation())
+                          .slerp(s, Eigen::Quaterniond(b.world_from_cam.rotation()))
+                          .normalized();
+      result->trajectory.push_back(pose);
+    }
+  }
+}
+
+}  // namespace
+
+FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
+                                       const FisheyeMappingOptions& options) {
+  FisheyeMappingResult result;
+  FeatureTracker tracker(camera, options.tracking);
+  const PipeViewClassifier classifier(camera, options.classification);
+  std::vector<TrackedKeyframe> tracked;
+  std::vector<std::pair<int, double>> usable_frames;
+  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
+  ProgressBar progress("map", source->FrameCount());
+  int failures_in_row = 0;
+  while (std::optional<Frame> frame = source->Next()) {
+    ++result.frames;
+    const int index = static_cast<int>(frame->index);
+    Timer timer;
+    TrackedKeyframe keyframe;
+    const TrackingStep step = tracker.Track(frame->grey, index, &keyframe);
+    result.tracking_seconds += timer.ElapsedSeconds();
+    progress.Update(static_cast<std::size_t>(result.frames));
+    if (!step.usable) {
+      result.failed_frames.push_back({index, frame->name, step.failure});
+      if (++failures_in_row >= options.max_failures_in_row) {
+        tracker.Reset();
+        ++result.tracking_resets;
+        failures_in_row = 0;
+      }
+      continue;
+    }
+    failures_in_row = 0;
+    usable_frames.emplace_back(index, frame->timestamp);
+    if (!step.keyframe) continue;
+    const Timer classify_timer;
+    const PipeViewMeasurement measurement = classifier.Classify(frame->grey);
+    result.classification_seconds += classify_timer.ElapsedSeconds();
+    FisheyeKeyframe record;
+    record.frame_index = index;
+    record.timestamp = frame->timestamp;
+    record.name = frame->name;
+    record.initial_class = measurement.view_class;
+    record.moment_ratio = measurement.moment_ratio;
+    record.features = static_cast<int>(keyframe.features.size());
+    record.matches_cosine = keyframe.matches_cosine;
+    record.matches_guided = keyframe.matches_guided;
+    record.median_flow_px = keyframe.median_flow_px;
+    result.keyframes.push_back(record);
+    tracked.push_back(std::move(keyframe));
+  }
+  progress.Finish();
+  result.unreadable_frames = source->skipped_frames();
+
+  std::vector<PipeViewClass> initial;
+  for (const FisheyeKeyframe& keyframe : result.keyframes)
+    initial.push_back(keyframe.initial_class);
+  const std::vector<PipeViewClass> filtered =
+      FilterPipeViewClasses(initial, options.min_cluster_size);
+  for (std::size_t k = 0; k < filtered.size(); ++k)
+    result.keyframes[k].filtered_class = filtered[k];
+  BuildSections(&result);
+
+  const Timer odometry_timer;
+  KeyframeOdometry(camera, options, tracked, &result).Run();
+  result.odometry_seconds = odometry_timer.ElapsedSeconds();
+  for (const FisheyeKeyframe& keyframe : result.keyframes) {
+    result.keyframe_trajectory.push_back(ToStamped(keyframe.timestamp, keyframe.world_from_cam));
+  }
+  InterpolateTrajectory(usable_frames, &result);
+  return result;
+}
+
+}  // namespace pipescope
