@@ -31,6 +31,11 @@ void DerivativeOfGaussianKernels(double sigma, cv::Mat* smooth, cv::Mat* derivat
 cv::Mat HarrisResponse(const cv::Mat& grey, const RegionHarrisOptions& options) {
   cv::Mat image;
   grey.convertTo(image, CV_32F);
+  if (options.box_window_px > 0) {
+    cv::Mat response;
+    cv::cornerHarris(image, response, options.box_window_px, options.sobel_aperture, options.k);
+    return response;
+  }
   cv::Mat smooth, derivative;
   DerivativeOfGaussianKernels(options.sigma_derivative_px, &smooth, &derivative);
   cv::Mat ix, iy;
@@ -66,7 +71,8 @@ cv::Point2f QuadraticPeakOffset(const cv::Mat& response, int x, int y) {
   return {static_cast<float>(dx), static_cast<float>(dy)};
 }
 
-std::vector<Keypoint> DetectRegionHarris(const cv::Mat& grey, const RegionHarrisOptions& options) {
+std::vector<Keypoint> DetectRegionHarris(const cv::Mat& grey, const RegionHarrisOptions& options,
+                                         const cv::Mat& mask) {
   const cv::Mat response = HarrisResponse(grey, options);
   // A pixel is a local maximum when it equals the maximum of its nms window.
   cv::Mat dilated;
@@ -82,9 +88,10 @@ std::vector<Keypoint> DetectRegionHarris(const cv::Mat& grey, const RegionHarris
   for (int y = border; y < response.rows - border; ++y) {
     const float* r = response.ptr<float>(y);
     const float* d = dilated.ptr<float>(y);
+    const uchar* usable = mask.empty() ? nullptr : mask.ptr<uchar>(y);
     const int cell_row = std::min(options.grid_rows - 1, y * options.grid_rows / response.rows);
     for (int x = border; x < response.cols - border; ++x) {
-      if (r[x] <= floor || r[x] < d[x]) continue;
+      if (r[x] <= floor || r[x] < d[x] || (usable && !usable[x])) continue;
       const int cell_col = std::min(options.grid_cols - 1, x * options.grid_cols / response.cols);
       cells[cell_row * options.grid_cols + cell_col].push_back(
           {cv::Point2f(static_cast<float>(x), static_cast<float>(y)), r[x]});
@@ -97,8 +104,10 @@ std::vector<Keypoint> DetectRegionHarris(const cv::Mat& grey, const RegionHarris
                       [](const Keypoint& a, const Keypoint& b) { return a.response > b.response; });
     for (std::size_t i = 0; i < kept; ++i) {
       Keypoint keypoint = cell[i];
-      keypoint.position += QuadraticPeakOffset(response, static_cast<int>(keypoint.position.x),
-                                               static_cast<int>(keypoint.position.y));
+      if (options.subpixel) {
+        keypoint.position += QuadraticPeakOffset(response, static_cast<int>(keypoint.position.x),
+                                                 static_cast<int>(keypoint.position.y));
+      }
       keypoints.push_back(keypoint);
     }
   }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 namespace pipescope {
@@ -94,6 +95,33 @@ TEST(DetectRegionHarris, SubPixelPositionsFollowAShiftOfTheScene) {
   std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
   // Integer positions alone would be off by 0.5 px here.
   EXPECT_LT(errors[errors.size() / 2], 0.1);
+}
+
+TEST(DetectRegionHarris, BoxWindowFindsCornerHarrisMaximaOnlyInsideTheMask) {
+  // 001's settings: OpenCV's cv::cornerHarris response, integer positions, a detection mask.
+  const cv::Mat image = BlobImage({240, 180}, {0, 0});
+  RegionHarrisOptions options;
+  options.grid_rows = 2;
+  options.grid_cols = 2;
+  options.per_cell = 50;
+  options.box_window_px = 7;
+  options.subpixel = false;
+  cv::Mat mask(image.size(), CV_8U, cv::Scalar(0));
+  mask.colRange(120, 240).setTo(255);
+  cv::Mat opencv;
+  cv::cornerHarris(image, opencv, 7, 3, options.k);
+  const std::vector<Keypoint> corners = DetectRegionHarris(image, options, mask);
+  ASSERT_GT(corners.size(), 20u);
+  for (const Keypoint& corner : corners) {
+    EXPECT_GE(corner.position.x, 120.f);
+    EXPECT_EQ(corner.position.x, std::round(corner.position.x));
+    const int x = static_cast<int>(corner.position.x), y = static_cast<int>(corner.position.y);
+    EXPECT_FLOAT_EQ(corner.response, opencv.at<float>(y, x));
+    // A local maximum of OpenCV's response over the 7 x 7 window.
+    for (int dy = -3; dy <= 3; ++dy) {
+      for (int dx = -3; dx <= 3; ++dx) EXPECT_LE(opencv.at<float>(y + dy, x + dx), corner.response);
+    }
+  }
 }
 
 }  // namespace
