@@ -62,6 +62,9 @@ WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
                                   CylinderGaugeCost::OpticalAxisAzimuth(pose.linear()),
                                   options.gauge_weight),
         nullptr, rotations[0].data(), positions[0].data());
+    if (options.hold_first_cross_section) {
+      problem.SetManifold(positions[0].data(), new ceres::SubsetManifold(3, {0, 1}));
+    }
   }
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.apply_loss_function = false;

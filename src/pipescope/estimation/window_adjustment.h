@@ -17,6 +17,12 @@ struct WindowAdjustmentOptions {
   int max_iterations = 15;
   // Weight (1/metres and 1/radians) of the gauge prior when no key frame is held fixed.
   double gauge_weight = 1e4;
+  // When no key frame is fixed: also hold the first key frame's position across the pipe (C_X,
+  // C_Y), i.e. its measured distance to the wall (000 §3.3, §5.3.2: "measured manually"). The
+  // reprojections through the cylinder see that distance only through the wall's curvature,
+  // which a narrow lens barely sees; left free, it (and with it the scale) follows the
+  // keypoints' localisation bias.
+  bool hold_first_cross_section = false;
 };
 
 struct WindowKeyFrame {

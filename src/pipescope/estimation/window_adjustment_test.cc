@@ -57,5 +57,45 @@ TEST(AdjustWindow, RecoversWobblingPosesThroughTheCylinder) {
   }
 }
 
+// No key frame fixed: the gauge prior holds the first one's travel and roll; with
+// hold_first_cross_section its position across the pipe also stays where it was put (the
+// measured start), even when the reprojections would move it.
+TEST(AdjustWindow, HoldsTheFirstKeyFramesCrossSectionWhenAsked) {
+  const Camera camera = SteelSixInchCamera();
+  std::vector<Eigen::Isometry3d> truth;
+  for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001 - 0.0002 * a, 0.01 * a}));
+  std::vector<Eigen::Vector3d> points;
+  for (int a = 0; a < 6; ++a) {
+    for (const Eigen::Vector3d& p : WallPointsSeenFrom(camera, truth[a], kRadius, 60, 70 + a)) {
+      points.push_back(p);
+    }
+  }
+  std::vector<WindowKeyFrame> window(6);
+  for (int a = 0; a < 6; ++a) {
+    window[a].pose = truth[a];
+    window[a].pose.translation().y() += 0.0008;  // everyone moved towards the wall
+    for (std::size_t g = 0; g < points.size(); ++g) {
+      Eigen::Vector2d pixel;
+      if (camera.Project(truth[a].inverse() * points[g], &pixel) != ProjectionStatus::kValid) {
+        continue;
+      }
+      Eigen::Vector3d bearing;
+      ASSERT_TRUE(camera.Unproject(pixel, &bearing));
+      window[a].keypoints.push_back({static_cast<long long>(g), pixel, bearing});
+    }
+  }
+  WindowAdjustmentOptions options;
+  options.max_iterations = 50;
+  options.hold_first_cross_section = true;
+  const Eigen::Vector3d held = window[0].pose.translation();
+  std::vector<WindowKeyFrame> free_window = window;
+  AdjustWindow(camera, kRadius, options, &window);
+  EXPECT_LT((window[0].pose.translation() - held).head<2>().norm(), 1e-12);
+  // Free, the 70-degree lens sees the wall's curvature well enough to come back to the truth.
+  options.hold_first_cross_section = false;
+  AdjustWindow(camera, kRadius, options, &free_window);
+  EXPECT_LT((free_window[0].pose.translation() - truth[0].translation()).norm(), 1e-5);
+}
+
 }  // namespace
 }  // namespace pipescope

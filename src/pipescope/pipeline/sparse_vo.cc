@@ -12,25 +12,13 @@
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/image/undistortion.h"
 #include "pipescope/io/image_source.h"
-#include "pipescope/mapping/unrolled_mosaic.h"
+#include "pipescope/mapping/unrolled_mosaic_pass.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
 #include "pipescope/util/timer.h"
 
 namespace pipescope {
 namespace {
-
-std::string ManifestName(const DatasetManifest& manifest) {
-  return manifest.manifest_path.empty() ? std::string("dataset") : manifest.manifest_path.string();
-}
-
-StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_cam) {
-  StampedPose pose;
-  pose.timestamp = timestamp;
-  pose.rotation = Eigen::Quaterniond(world_from_cam.linear()).normalized();
-  pose.position = world_from_cam.translation();
-  return pose;
-}
 
 Eigen::Isometry3d MovedAlongAxis(const Eigen::Isometry3d& pose, double delta_h) {
   Eigen::Isometry3d moved = pose;
@@ -207,7 +195,8 @@ class SparseOdometer {
         {frame_index, static_cast<int>(key_frames_.back().tracks.size()), tracked});
 
     const std::size_t count = key_frames_.size();
-    if (options_.optimise_initial_position &&
+    // A measured start replaces §5.3.2's estimate of C_X, C_Y (SparseVoOptions).
+    if (options_.optimise_initial_position && !options_.window.hold_first_cross_section &&
         count == static_cast<std::size_t>(options_.initial_key_frames)) {
       OptimiseStart(result);
     }
@@ -411,48 +400,20 @@ class SparseOdometer {
   std::map<std::string, double>* stage_seconds_;
 };
 
-double SaturatedFraction(const cv::Mat& grey, double level) {
-  return static_cast<double>(cv::countNonZero(grey >= level)) / grey.total();
-}
-
 // The unrolled appearance map (000 Fig. 15/17) from the frames at their estimated poses.
 void BuildMosaic(const DatasetManifest& manifest, const Camera& camera, const cv::Mat& gain_mask,
                  double radius_m, double pixel_m, double spacing_cells, SparseVoResult* result) {
   std::map<std::size_t, Eigen::Isometry3d> poses;
-  double h_min = INFINITY, h_max = -INFINITY;
   std::size_t pose_index = 0;
   for (const SparseFrameRecord& record : result->frames) {
     if (!record.failure.empty()) continue;
-    const StampedPose& pose = result->trajectory[pose_index++];
-    Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
-    world_from_cam.linear() = pose.rotation.toRotationMatrix();
-    world_from_cam.translation() = pose.position;
-    poses[record.index] = world_from_cam;
-    h_min = std::min(h_min, pose.position.z());
-    h_max = std::max(h_max, pose.position.z());
+    poses[record.index] = ToIsometry(result->trajectory[pose_index++]);
   }
-  if (poses.empty()) return;
-  const double reach = 3.0 * radius_m;
-  UnrolledMosaic mosaic(camera, radius_m, pixel_m, h_min - reach, h_max + reach);
-  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
-  ProgressBar progress("mosaic", source->FrameCount());
-  double last_h = -INFINITY;
-  while (std::optional<Frame> frame = source->Next()) {
-    progress.Update(frame->index + 1);
-    const auto pose = poses.find(frame->index);
-    if (pose == poses.end()) continue;
-    const double h = pose->second.translation().z();
-    if (std::abs(h - last_h) < spacing_cells * pixel_m) continue;
-    last_h = h;
-    mosaic.Add(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask),
-               pose->second);
-  }
-  progress.Finish();
-  const cv::Rect covered = mosaic.CoveredRegion();
-  result->mosaic = mosaic.Render(covered);
-  result->mosaic_pixel_m = pixel_m;
-  result->mosaic_origin_m = {mosaic.grid().h0_m + covered.x * pixel_m,
-                             mosaic.grid().s0_m + covered.y * pixel_m};
+  UnrolledMosaicMap map = MosaicAtPoses(manifest, camera, gain_mask, poses, radius_m, pixel_m,
+                                        3.0 * radius_m, spacing_cells * pixel_m);
+  result->mosaic = std::move(map.image);
+  result->mosaic_pixel_m = map.pixel_m;
+  result->mosaic_origin_m = map.origin_m;
 }
 
 void CheckOptions(const SparseVoOptions& options) {
@@ -480,11 +441,16 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   CheckOptions(options);
   const double radius = RequireInnerRadius(manifest);
   double wall_distance = options.wall_distance_m;
+  const bool has_reference_scale =
+      manifest.reference_scale_px_per_m && *manifest.reference_scale_px_per_m > 0.0;
+  const bool start_measured = wall_distance > 0.0 || has_reference_scale;
   if (!(wall_distance > 0.0)) {
-    wall_distance = manifest.reference_scale_px_per_m && *manifest.reference_scale_px_per_m > 0.0
+    wall_distance = has_reference_scale
                         ? CentralFocalLengthPx(camera) / *manifest.reference_scale_px_per_m
                         : radius;
   }
+  SparseVoOptions effective = options;
+  effective.window.hold_first_cross_section = options.hold_measured_start && start_measured;
   if (wall_distance >= 2.0 * radius) {
     throw InputError(ManifestName(manifest) + ": the start camera would be " +
                      std::to_string(wall_distance) +
@@ -501,7 +467,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   }
 
   SparseVoResult result;
-  SparseOdometer odometer(camera, radius, start, options, &result.stage_seconds);
+  SparseOdometer odometer(camera, radius, start, effective, &result.stage_seconds);
   std::vector<LocalisedFrame> localised;
   // The newest localised frame since the key frame: the next key frame when the span ends.
   struct Candidate {

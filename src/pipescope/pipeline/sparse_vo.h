@@ -48,6 +48,12 @@ struct SparseVoOptions {
   int window_every = 10;
   int window_fixed = 3;
   WindowAdjustmentOptions window;
+  // When the start's wall distance is measured (wall_distance_m or the reference scale), hold
+  // the first key frame's position across the pipe there, in the first window adjustment and
+  // instead of §5.3.2's estimate of C_X, C_Y. Through a narrow lens (steel-16in: 25 degrees)
+  // the reprojections see the wall distance, and so the scale, only through the wall's slight
+  // curvature; estimated, it follows the keypoints' localisation bias by millimetres.
+  bool hold_measured_start = true;
   // Beyond 000: after the last key frame, one common cross-section offset and travel scale for
   // all key frames by reprojection over the whole run (estimation/global_scale.h).
   bool global_scale = false;

@@ -19,6 +19,7 @@ const std::set<std::string> kKeys = {"grid_rows",
                                      "sift_keypoint_size_px",
                                      "max_ratio",
                                      "mutual_check",
+                                     "hold_measured_start",
                                      "ransac_threshold_px",
                                      "key_frame_min_correspondences",
                                      "key_frame_max_flow_fraction",
@@ -74,15 +75,7 @@ class ConfigReader {
 
 void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* options) {
   const YAML::Node root = LoadYamlFile(path);
-  if (!root.IsMap()) throw InputError(path.string() + ": expected a map of option keys");
-  for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
-    if (!kKeys.count(key)) {
-      std::string valid;
-      for (const std::string& known : kKeys) valid += (valid.empty() ? "" : ", ") + known;
-      throw InputError(path.string() + ": unknown key '" + key + "' (valid: " + valid + ")");
-    }
-  }
+  RequireKnownKeys(root, path, kKeys);
   const ConfigReader r(path, root);
   r.Read("grid_rows", 1, 100, &options->harris.grid_rows);
   r.Read("grid_cols", 1, 100, &options->harris.grid_cols);
@@ -109,6 +102,7 @@ void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* opt
   options->refinement.huber_m = huber;
   r.Read("reprojection_loss_px", 0.0, 1000.0, &options->initial_position.robust_loss_px);
   r.ReadBool("window_adjustment", &options->window_adjustment);
+  r.ReadBool("hold_measured_start", &options->window.hold_first_cross_section);
   r.ReadBool("pipelined", &options->pipelined);
   r.ReadBool("global_scale", &options->global_scale);
   r.Read("window_size", 2, 10000, &options->window_size);
@@ -156,6 +150,7 @@ nlohmann::json SparseVoOptionsToJson(const SparseVoOptions& o) {
           {"huber_m", o.axial_step.huber_m},
           {"reprojection_loss_px", o.initial_position.robust_loss_px},
           {"window_adjustment", o.window_adjustment},
+          {"hold_measured_start", o.window.hold_first_cross_section},
           {"pipelined", o.pipelined},
           {"global_scale", o.global_scale},
           {"window_size", o.window_size},

@@ -40,6 +40,9 @@ TEST(SparseVo, ShortRunStaysWithinBound) {
   SparseVoOptions options;
   options.build_mosaic = false;
   options.refine_every = 5;  // so the short run exercises the 6-DOF refinement
+  // 000's sigma_W = 3, sigma_D = 1.5 are for 640x480 frames; these are half that size.
+  options.harris.sigma_window_px = 1.5;
+  options.harris.sigma_derivative_px = 0.75;
   const SparseVoResult result = RunSparseVo(manifest, camera, options);
   EXPECT_EQ(result.trajectory.size(), 60u);  // every frame has a pose
   EXPECT_GE(result.key_frames.size(), 10u);
