@@ -6,6 +6,7 @@
 
 #include "pipescope/camera/camera.h"
 #include "pipescope/camera/camera_models.h"
+#include "pipescope/estimation/initial_position.h"
 
 namespace pipescope {
 
@@ -48,6 +49,24 @@ inline std::vector<Eigen::Vector3d> WallPointsSeenFrom(const Camera& camera,
     points.push_back(o + t * d);
   }
   return points;
+}
+
+// The keypoints of `points` (track g = index) that project into the image from `world_from_cam`,
+// with their exact pixels and bearings.
+inline std::vector<KeyFrameKeypoint> ObservedKeypoints(const Camera& camera,
+                                                       const Eigen::Isometry3d& world_from_cam,
+                                                       const std::vector<Eigen::Vector3d>& points) {
+  std::vector<KeyFrameKeypoint> keypoints;
+  for (std::size_t g = 0; g < points.size(); ++g) {
+    Eigen::Vector2d pixel;
+    Eigen::Vector3d bearing;
+    if (camera.Project(world_from_cam.inverse() * points[g], &pixel) != ProjectionStatus::kValid ||
+        !camera.Unproject(pixel, &bearing)) {
+      continue;
+    }
+    keypoints.push_back({static_cast<long long>(g), pixel, bearing});
+  }
+  return keypoints;
 }
 
 }  // namespace pipescope

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "pipescope/estimation/least_squares_solve.h"
 #include "pipescope/estimation/surface_point.h"
 
 namespace pipescope {
@@ -88,20 +89,11 @@ GlobalScaleResult CorrectGlobalScale(const Camera& camera, double radius_m,
     }
   }
   if (result.residuals == 0) return result;
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.apply_loss_function = false;
-  double cost = 0.0;
-  problem.Evaluate(evaluate, &cost, nullptr, nullptr, nullptr);
-  result.initial_rms_px = std::sqrt(cost / result.residuals);
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  problem.Evaluate(evaluate, &cost, nullptr, nullptr, nullptr);
-  result.final_rms_px = std::sqrt(cost / result.residuals);
-  if (!summary.IsSolutionUsable()) return result;
+  const LeastSquaresOutcome outcome =
+      SolveLeastSquares(&problem, ceres::DENSE_QR, options.max_iterations, result.residuals);
+  result.initial_rms_px = outcome.initial_rms;
+  result.final_rms_px = outcome.final_rms;
+  if (!outcome.usable) return result;
   result.offset_xy = Eigen::Vector2d(theta[0], theta[1]);
   result.scale = theta[2];
   for (WindowKeyFrame& key : *key_frames) {

@@ -35,15 +35,7 @@ TEST(CorrectGlobalScale, RemovesACommonOffsetAndScale) {
     const Eigen::Vector3d c = truth[a].translation();
     key_frames[a].pose.translation() = Eigen::Vector3d(c.x() + error_xy.x(), c.y() + error_xy.y(),
                                                        error_scale * (c.z() - 0.0) + 0.0);
-    for (std::size_t g = 0; g < points.size(); ++g) {
-      Eigen::Vector2d pixel;
-      if (camera.Project(truth[a].inverse() * points[g], &pixel) != ProjectionStatus::kValid) {
-        continue;
-      }
-      Eigen::Vector3d bearing;
-      ASSERT_TRUE(camera.Unproject(pixel, &bearing));
-      key_frames[a].keypoints.push_back({static_cast<long long>(g), pixel, bearing});
-    }
+    key_frames[a].keypoints = ObservedKeypoints(camera, truth[a], points);
   }
   GlobalScaleOptions options;
   options.max_iterations = 50;

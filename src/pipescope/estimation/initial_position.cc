@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "pipescope/estimation/initial_position_cost.h"
+#include "pipescope/estimation/least_squares_solve.h"
 
 namespace pipescope {
 
@@ -41,19 +42,10 @@ InitialPositionResult OptimiseInitialPosition(
   }
   if (result.residuals == 0) return result;
   problem.SetParameterBlockConstant(&result.delta_h[0]);
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.apply_loss_function = false;
-  double cost = 0.0;
-  problem.Evaluate(evaluate, &cost, nullptr, nullptr, nullptr);
-  result.initial_rms_px = std::sqrt(cost / result.residuals);
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  problem.Evaluate(evaluate, &cost, nullptr, nullptr, nullptr);
-  result.final_rms_px = std::sqrt(cost / result.residuals);
+  const LeastSquaresOutcome outcome =
+      SolveLeastSquares(&problem, ceres::DENSE_QR, options.max_iterations, result.residuals);
+  result.initial_rms_px = outcome.initial_rms;
+  result.final_rms_px = outcome.final_rms;
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include "pipescope/estimation/least_squares_solve.h"
 #include "pipescope/estimation/surface_consistency_cost.h"
 
 namespace pipescope {
@@ -26,13 +27,9 @@ Eigen::Isometry3d RefinePoseOnSurface(const Eigen::Isometry3d& initial,
   }
   if (problem.NumResidualBlocks() < 6) return initial;
   problem.SetManifold(q, new ceres::EigenQuaternionManifold);
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  if (!summary.IsSolutionUsable()) return initial;
+  if (!SolveLeastSquares(&problem, ceres::DENSE_QR, options.max_iterations, 0).usable) {
+    return initial;
+  }
   Eigen::Isometry3d refined = Eigen::Isometry3d::Identity();
   refined.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
   refined.translation() = position;

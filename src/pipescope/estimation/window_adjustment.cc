@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "pipescope/estimation/cylinder_transfer_cost.h"
+#include "pipescope/estimation/least_squares_solve.h"
 
 namespace pipescope {
 
@@ -66,20 +67,11 @@ WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
       problem.SetManifold(positions[0].data(), new ceres::SubsetManifold(3, {0, 1}));
     }
   }
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.apply_loss_function = false;
-  double cost = 0.0;
-  problem.Evaluate(evaluate, &cost, nullptr, nullptr, nullptr);
-  summary.initial_rms_px = std::sqrt(2.0 * cost / (2.0 * summary.residuals));
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = 1;
-  ceres::Solver::Summary result;
-  ceres::Solve(solver, &problem, &result);
-  problem.Evaluate(evaluate, &cost, nullptr, nullptr, nullptr);
-  summary.final_rms_px = std::sqrt(2.0 * cost / (2.0 * summary.residuals));
-  if (!result.IsSolutionUsable()) return summary;
+  const LeastSquaresOutcome outcome = SolveLeastSquares(&problem, ceres::DENSE_NORMAL_CHOLESKY,
+                                                        options.max_iterations, summary.residuals);
+  summary.initial_rms_px = outcome.initial_rms;
+  summary.final_rms_px = outcome.final_rms;
+  if (!outcome.usable) return summary;
   for (std::size_t a = 0; a < count; ++a) {
     if ((*key_frames)[a].fixed) continue;
     (*key_frames)[a].pose = CylinderTransferCost::Pose(rotations[a].data(), positions[a].data());

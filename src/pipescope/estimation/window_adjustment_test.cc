@@ -34,15 +34,7 @@ TEST(AdjustWindow, RecoversWobblingPosesThroughTheCylinder) {
     window[a].pose = a < 2 ? truth[a] : truth[0];
     window[a].pose.translation().z() = truth[a].translation().z() + 0.0005;
     if (a < 2) window[a].pose = truth[a];
-    for (std::size_t g = 0; g < points.size(); ++g) {
-      Eigen::Vector2d pixel;
-      if (camera.Project(truth[a].inverse() * points[g], &pixel) != ProjectionStatus::kValid) {
-        continue;
-      }
-      Eigen::Vector3d bearing;
-      ASSERT_TRUE(camera.Unproject(pixel, &bearing));
-      window[a].keypoints.push_back({static_cast<long long>(g), pixel, bearing});
-    }
+    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
   }
   WindowAdjustmentOptions options;
   options.max_iterations = 50;
@@ -74,15 +66,7 @@ TEST(AdjustWindow, HoldsTheFirstKeyFramesCrossSectionWhenAsked) {
   for (int a = 0; a < 6; ++a) {
     window[a].pose = truth[a];
     window[a].pose.translation().y() += 0.0008;  // everyone moved towards the wall
-    for (std::size_t g = 0; g < points.size(); ++g) {
-      Eigen::Vector2d pixel;
-      if (camera.Project(truth[a].inverse() * points[g], &pixel) != ProjectionStatus::kValid) {
-        continue;
-      }
-      Eigen::Vector3d bearing;
-      ASSERT_TRUE(camera.Unproject(pixel, &bearing));
-      window[a].keypoints.push_back({static_cast<long long>(g), pixel, bearing});
-    }
+    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
   }
   WindowAdjustmentOptions options;
   options.max_iterations = 50;

@@ -229,12 +229,7 @@ class SparseOdometer {
     for (std::size_t a = 0; a < key_frames_.size(); ++a) {
       const KeyFrame& key = key_frames_[a];
       delta_h[a] = key.pose.translation().z() - first.translation().z();
-      for (std::size_t i = 0; i < key.tracks.size(); ++i) {
-        if (!key.features.has_bearing[i] || statistics_[key.tracks[i]].n < 2.0) continue;
-        const cv::Point2f& p = key.features.keypoints[i].position;
-        keypoints[a].push_back(
-            {key.tracks[i], Eigen::Vector2d(p.x, p.y), key.features.bearings[i]});
-      }
+      keypoints[a] = TrackedKeypoints(key);
     }
     const Eigen::Vector2d c_xy = first.translation().head<2>();
     const InitialPositionResult optimised = OptimiseInitialPosition(
@@ -285,12 +280,7 @@ class SparseOdometer {
     for (const KeyFrame& key : key_frames_) {
       WindowKeyFrame entry;
       entry.pose = key.pose;
-      for (std::size_t i = 0; i < key.tracks.size(); ++i) {
-        if (!key.features.has_bearing[i] || statistics_[key.tracks[i]].n < 2.0) continue;
-        const cv::Point2f& p = key.features.keypoints[i].position;
-        entry.keypoints.push_back(
-            {key.tracks[i], Eigen::Vector2d(p.x, p.y), key.features.bearings[i]});
-      }
+      entry.keypoints = TrackedKeypoints(key);
       all.push_back(std::move(entry));
     }
     result->global_scale = CorrectGlobalScale(camera_, radius_m_, options_.global, &all);
@@ -309,12 +299,7 @@ class SparseOdometer {
       WindowKeyFrame entry;
       entry.pose = key.pose;
       entry.fixed = static_cast<int>(k - begin) < fixed;
-      for (std::size_t i = 0; i < key.tracks.size(); ++i) {
-        if (!key.features.has_bearing[i] || statistics_[key.tracks[i]].n < 2.0) continue;
-        const cv::Point2f& p = key.features.keypoints[i].position;
-        entry.keypoints.push_back(
-            {key.tracks[i], Eigen::Vector2d(p.x, p.y), key.features.bearings[i]});
-      }
+      entry.keypoints = TrackedKeypoints(key);
       window.push_back(std::move(entry));
     }
     const Timer timer;
@@ -365,6 +350,17 @@ class SparseOdometer {
   }
 
  private:
+  // The key frame's keypoints on tracks seen in two or more key frames.
+  std::vector<KeyFrameKeypoint> TrackedKeypoints(const KeyFrame& key) const {
+    std::vector<KeyFrameKeypoint> keypoints;
+    for (std::size_t i = 0; i < key.tracks.size(); ++i) {
+      if (!key.features.has_bearing[i] || statistics_[key.tracks[i]].n < 2.0) continue;
+      const cv::Point2f& p = key.features.keypoints[i].position;
+      keypoints.push_back({key.tracks[i], Eigen::Vector2d(p.x, p.y), key.features.bearings[i]});
+    }
+    return keypoints;
+  }
+
   long long NewTrack() {
     statistics_.emplace_back();
     return static_cast<long long>(statistics_.size()) - 1;
