@@ -6,6 +6,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "pipescope/camera/camera_io.h"
 #include "pipescope/cli/subcommand.h"
@@ -37,27 +39,20 @@ struct OdometryFlags {
   std::optional<double> radius;
 };
 
-nlohmann::json FailedFramesJson(const DenseVoResult& result) {
+// The frames a method could not use, with the reason (dense and sparse frame records).
+template <typename FrameRecord>
+nlohmann::json FailedFramesJson(const std::vector<FrameRecord>& frames) {
   nlohmann::json failed = nlohmann::json::array();
-  for (const DenseFrameRecord& frame : result.frames) {
+  for (const FrameRecord& frame : frames) {
     if (frame.failure.empty()) continue;
-    failed.push_back({{"index", frame.index},
-                      {"name", frame.name},
-                      {"timestamp", frame.timestamp},
-                      {"reason", frame.failure},
-                      {"predicted_shift_px", {frame.shift.x, frame.shift.y}}});
-  }
-  return failed;
-}
-
-nlohmann::json FailedFramesJson(const SparseVoResult& result) {
-  nlohmann::json failed = nlohmann::json::array();
-  for (const SparseFrameRecord& frame : result.frames) {
-    if (frame.failure.empty()) continue;
-    failed.push_back({{"index", frame.index},
-                      {"name", frame.name},
-                      {"timestamp", frame.timestamp},
-                      {"reason", frame.failure}});
+    nlohmann::json entry = {{"index", frame.index},
+                            {"name", frame.name},
+                            {"timestamp", frame.timestamp},
+                            {"reason", frame.failure}};
+    if constexpr (std::is_same_v<FrameRecord, DenseFrameRecord>) {
+      entry["predicted_shift_px"] = {frame.shift.x, frame.shift.y};
+    }
+    failed.push_back(std::move(entry));
   }
   return failed;
 }
@@ -101,7 +96,7 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   for (const auto& [stage, seconds] : result.stage_seconds) {
     report.AddTiming("odometry_" + stage, seconds);
   }
-  report.Extra("failed_frames") = FailedFramesJson(result);
+  report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
   report.Extra("initial_position") = {
       {"start_c_xy_m", {result.initial_c_xy.x(), result.initial_c_xy.y()}},
@@ -175,7 +170,7 @@ int RunOdometry(const OdometryFlags& flags) {
   report.AddTiming("odometry_reading", result.reading_seconds);
   report.AddTiming("odometry_preparing", result.preparing_seconds);
   report.AddTiming("odometry_registering", result.registering_seconds);
-  report.Extra("failed_frames") = FailedFramesJson(result);
+  report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
   if (result.failed_pairs > 0) {
     report.Warn(std::to_string(result.failed_pairs) +
