@@ -432,6 +432,12 @@ void CheckOptions(const SparseVoOptions& options) {
 
 }  // namespace
 
+RegionHarrisOptions SparseVoRegionHarrisOptions() {
+  RegionHarrisOptions options;
+  options.sigma_window_px = 2.0;
+  return options;
+}
+
 SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera,
                            const SparseVoOptions& options) {
   CheckOptions(options);
