@@ -19,6 +19,7 @@
 #include "pipescope/eval/metrics_report.h"
 #include "pipescope/eval/trajectory_metrics.h"
 #include "pipescope/io/dataset.h"
+#include "pipescope/io/point_cloud_ply.h"
 #include "pipescope/io/trajectory.h"
 #include "pipescope/pipeline/fisheye_mapping.h"
 #include "pipescope/util/atomic_file.h"
@@ -57,7 +58,7 @@ std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
   return {{"window_interval", &o->window_interval},
           {"window_size", &o->window_size},
           {"min_cluster_size", &o->min_cluster_size},
-          {"per_region", &o->tracking.harris.per_region},
+          {"per_region", &o->tracking.harris.per_cell},
           {"stages", &o->window.stages}};
 }
 
@@ -104,26 +105,21 @@ nlohmann::json OptionsJson(FisheyeMappingOptions options) {
   return json;
 }
 
-// points_sparse.ply: binary-free ASCII PLY, one colour per section (straight sections in
-// alternating blues and greens, T-intersections red).
+// points_sparse.ply: one colour per section (straight sections in alternating blues and greens,
+// T-intersections red).
 void WriteSparsePly(const std::filesystem::path& path, const FisheyeMappingResult& result) {
-  std::ostringstream out;
-  out << "ply\nformat ascii 1.0\ncomment pipescope map: sparse points, coloured by section\n"
-      << "element vertex " << result.points.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\n"
-      << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-  static const int kStraightColours[4][3] = {
+  static const PlyColour kStraightColours[4] = {
       {40, 90, 220}, {40, 180, 90}, {30, 160, 200}, {120, 200, 40}};
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<PlyColour> colours;
   for (const SparsePoint& point : result.points) {
     const FisheyeSection& section = result.sections[point.section];
-    int rgb[3] = {220, 40, 40};
-    if (section.view_class == PipeViewClass::kStraight) {
-      for (int c = 0; c < 3; ++c) rgb[c] = kStraightColours[point.section % 4][c];
-    }
-    out << point.position.x() << ' ' << point.position.y() << ' ' << point.position.z() << ' '
-        << rgb[0] << ' ' << rgb[1] << ' ' << rgb[2] << '\n';
+    positions.push_back(point.position);
+    colours.push_back(section.view_class == PipeViewClass::kStraight
+                          ? kStraightColours[point.section % 4]
+                          : PlyColour{220, 40, 40});
   }
-  WriteTextFileAtomically(path, out.str());
+  WritePlyPoints(path, positions, colours, "pipescope map: sparse points, coloured by section");
 }
 
 // The ground-truth pose nearest in time, or nullptr beyond 1 ms.

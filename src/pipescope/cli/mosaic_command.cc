@@ -42,13 +42,6 @@ struct MosaicFlags {
   std::optional<double> radius;
 };
 
-Eigen::Isometry3d ToIsometry(const StampedPose& pose) {
-  Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
-  world_from_cam.linear() = pose.rotation.toRotationMatrix();
-  world_from_cam.translation() = pose.position;
-  return world_from_cam;
-}
-
 // The pose nearest in time to `timestamp`, if one lies within max_dt_s.
 const StampedPose* PoseAt(const Trajectory& trajectory, double timestamp, double max_dt_s) {
   const auto after =

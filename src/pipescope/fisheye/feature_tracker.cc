@@ -8,6 +8,21 @@
 
 namespace pipescope {
 
+RegionHarrisOptions FisheyeRegionHarrisOptions() {
+  RegionHarrisOptions options;
+  options.grid_rows = 2;
+  options.grid_cols = 2;
+  options.per_cell = 200;
+  options.nms_window_px = 7;
+  options.box_window_px = 7;
+  options.sobel_aperture = 3;
+  options.k = 0.04;
+  options.border_px = 16;
+  options.min_relative_response = 1e-6;
+  options.subpixel = false;
+  return options;
+}
+
 FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions& options)
     : camera_(camera),
       options_(options),
@@ -19,7 +34,11 @@ FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions
 }
 
 std::vector<cv::Point2f> FeatureTracker::Detect(const cv::Mat& grey) const {
-  return DetectRegionHarris(grey, detection_mask_, options_.harris);
+  std::vector<cv::Point2f> points;
+  for (const Keypoint& keypoint : DetectRegionHarris(grey, options_.harris, detection_mask_)) {
+    points.push_back(keypoint.position);
+  }
+  return points;
 }
 
 bool FeatureTracker::Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const {

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "pipescope/camera/camera.h"
+#include "pipescope/feature/region_harris.h"
 #include "pipescope/fisheye/guided_zncc.h"
-#include "pipescope/fisheye/region_harris.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/fisheye/template_descriptor.h"
 
@@ -20,8 +20,13 @@ namespace pipescope {
 // median flow is large enough or the share of corresponding features drops. Features are
 // tracked over many frames by matching key frame to key frame recursively: a matched feature
 // keeps its track id.
+// 001's region Harris: 2 x 2 regions, the strongest 200 of each (after Nister et al. [6]), a 7 x 7
+// box window (larger than 3 against sensor noise), integer positions, 16 px clear of the border
+// so the 31 x 31 descriptor region fits.
+RegionHarrisOptions FisheyeRegionHarrisOptions();
+
 struct FeatureTrackerOptions {
-  RegionHarrisOptions harris;
+  RegionHarrisOptions harris = FisheyeRegionHarrisOptions();
   TemplateDescriptorOptions descriptor;
   CosineMatchOptions matching;
   SphereRelativePoseOptions relative_pose;

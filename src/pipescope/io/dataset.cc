@@ -166,11 +166,14 @@ DatasetManifest OpenDataset(const std::filesystem::path& dataset,
   return manifest;
 }
 
+std::string ManifestName(const DatasetManifest& manifest) {
+  return manifest.manifest_path.empty() ? std::string("dataset") : manifest.manifest_path.string();
+}
+
 double RequireInnerRadius(const DatasetManifest& manifest) {
   if (!manifest.inner_radius_m) {
     throw InputError(
-        (manifest.manifest_path.empty() ? std::string("dataset")
-                                        : manifest.manifest_path.string()) +
+        ManifestName(manifest) +
         ": the pipe radius is unknown: set key 'pipe.inner_radius_m' or pass --radius M");
   }
   return *manifest.inner_radius_m;

@@ -46,6 +46,9 @@ struct DatasetOverrides {
 DatasetManifest OpenDataset(const std::filesystem::path& dataset,
                             const DatasetOverrides& overrides = {});
 
+// The manifest's path for error messages, or "dataset" when it has none (a plain image folder).
+std::string ManifestName(const DatasetManifest& manifest);
+
 // The pipe radius, or InputError telling the user how to give it.
 double RequireInnerRadius(const DatasetManifest& manifest);
 

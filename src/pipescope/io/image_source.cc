@@ -265,4 +265,9 @@ std::optional<Frame> ImageSource::Next() {
   }
 }
 
+double SaturatedFraction(const cv::Mat& grey, double level) {
+  const double level_in_units = level / GreyLevelsPerUnit(grey.depth());
+  return static_cast<double>(cv::countNonZero(grey >= level_in_units)) / grey.total();
+}
+
 }  // namespace pipescope

@@ -88,6 +88,9 @@ class ImageSource {
 // CV_8U and float.
 double GreyLevelsPerUnit(int depth);
 
+// The fraction of `grey`'s pixels (any depth) at or above `level` 8-bit grey levels.
+double SaturatedFraction(const cv::Mat& grey, double level);
+
 // Converts an 8- or 16-bit, grey or colour image to CV_32F grey in 8-bit grey levels.
 cv::Mat ToFloatGrey(const cv::Mat& image);
 

@@ -112,4 +112,19 @@ void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& tra
   WriteTextFileAtomically(path, text);
 }
 
+StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_cam) {
+  StampedPose pose;
+  pose.timestamp = timestamp;
+  pose.rotation = Eigen::Quaterniond(world_from_cam.linear()).normalized();
+  pose.position = world_from_cam.translation();
+  return pose;
+}
+
+Eigen::Isometry3d ToIsometry(const StampedPose& pose) {
+  Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
+  world_from_cam.linear() = pose.rotation.toRotationMatrix();
+  world_from_cam.translation() = pose.position;
+  return world_from_cam;
+}
+
 }  // namespace pipescope

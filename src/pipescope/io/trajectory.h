@@ -16,6 +16,10 @@ struct StampedPose {
 
 using Trajectory = std::vector<StampedPose>;
 
+// A world_from_cam transform as a stamped pose, and back.
+StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_cam);
+Eigen::Isometry3d ToIsometry(const StampedPose& pose);
+
 // Reads a TUM trajectory: one pose a line, `timestamp tx ty tz qx qy qz qw`; `#` comments and
 // blank lines are skipped. Quaternions are normalised. The order of the file is kept, but
 // timestamps must not decrease. Throws InputError naming the file and line for a malformed line,

@@ -97,5 +97,14 @@ TEST(TumTrajectory, EmptyOrMissingFileIsAnInputError) {
   EXPECT_THROW(ReadTumTrajectory("/nonexistent/pipescope.tum"), InputError);
 }
 
+TEST(ToStampedPose, RoundTripsThroughAnIsometry) {
+  Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
+  world_from_cam.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  world_from_cam.translation() = Eigen::Vector3d(0.1, -0.2, 1.5);
+  const StampedPose pose = ToStampedPose(2.5, world_from_cam);
+  EXPECT_EQ(pose.timestamp, 2.5);
+  EXPECT_TRUE(ToIsometry(pose).isApprox(world_from_cam, 1e-12));
+}
+
 }  // namespace
 }  // namespace pipescope

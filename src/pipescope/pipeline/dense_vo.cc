@@ -11,7 +11,7 @@
 #include "pipescope/image/undistortion.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/mapping/image_mosaic.h"
-#include "pipescope/mapping/unrolled_mosaic.h"
+#include "pipescope/mapping/unrolled_mosaic_pass.h"
 #include "pipescope/pipeline/foreshortening.h"
 #include "pipescope/pipeline/unrolled_wall_registration.h"
 #include "pipescope/util/error.h"
@@ -20,10 +20,6 @@
 
 namespace pipescope {
 namespace {
-
-std::string ManifestName(const DatasetManifest& manifest) {
-  return manifest.manifest_path.empty() ? std::string("dataset") : manifest.manifest_path.string();
-}
 
 double RequireReferenceScale(const DatasetManifest& manifest) {
   if (!manifest.reference_scale_px_per_m || !(*manifest.reference_scale_px_per_m > 0.0)) {
@@ -35,61 +31,23 @@ double RequireReferenceScale(const DatasetManifest& manifest) {
   return *manifest.reference_scale_px_per_m;
 }
 
-StampedPose ToStampedPose(double timestamp, const Eigen::Isometry3d& world_from_cam) {
-  StampedPose pose;
-  pose.timestamp = timestamp;
-  pose.rotation = Eigen::Quaterniond(world_from_cam.linear()).normalized();
-  pose.position = world_from_cam.translation();
-  return pose;
-}
-
-// `level` in 8-bit grey levels; `grey` in any depth.
-double SaturatedFraction(const cv::Mat& grey, double level) {
-  const double level_in_units = level / GreyLevelsPerUnit(grey.depth());
-  return static_cast<double>(cv::countNonZero(grey >= level_in_units)) / grey.total();
-}
-
 // Second pass of dense-unrolled: the frames on the unrolled wall at their estimated poses, one
-// every `spacing_cells` of travel (000's mosaics use frames 50 px apart).
+// every `spacing_cells` of travel.
 void BuildUnrolledMosaic(const DatasetManifest& manifest, const Camera& camera,
                          const cv::Mat& gain_mask, const UnrolledWallRegistration& unrolled,
-                         double spacing_cells, DenseVoResult* result_in_out) {
-  const DenseVoResult& result = *result_in_out;
+                         double spacing_cells, DenseVoResult* result) {
   const UnrolledGrid& grid = unrolled.grid();
-  double h_min = INFINITY, h_max = -INFINITY;
   std::map<std::size_t, Eigen::Isometry3d> poses;
-  for (std::size_t k = 0; k < result.frames.size(); ++k) {
-    const StampedPose& pose = result.trajectory[k];
-    Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
-    world_from_cam.linear() = pose.rotation.toRotationMatrix();
-    world_from_cam.translation() = pose.position;
-    poses[result.frames[k].index] = world_from_cam;
-    h_min = std::min(h_min, pose.position.z());
-    h_max = std::max(h_max, pose.position.z());
+  for (std::size_t k = 0; k < result->frames.size(); ++k) {
+    poses[result->frames[k].index] = ToIsometry(result->trajectory[k]);
   }
   // The footprint reaches beyond the camera's h by up to the grid's length either way.
   const double reach = grid.size.width * grid.pixel_m + std::abs(grid.h0_m);
-  UnrolledMosaic mosaic(camera, grid.radius_m, grid.pixel_m, h_min - reach, h_max + reach);
-  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
-  ProgressBar progress("mosaic", source->FrameCount());
-  double last_h = -INFINITY;
-  while (std::optional<Frame> frame = source->Next()) {
-    progress.Update(frame->index + 1);
-    const auto pose = poses.find(frame->index);
-    if (pose == poses.end()) continue;
-    const double h = pose->second.translation().z();
-    if (std::abs(h - last_h) < spacing_cells * grid.pixel_m) continue;
-    last_h = h;
-    mosaic.Add(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask),
-               pose->second);
-  }
-  progress.Finish();
-  // Only the band the camera saw: a wall-looking camera covers a fraction of the circumference.
-  const cv::Rect covered = mosaic.CoveredRegion();
-  result_in_out->mosaic = mosaic.Render(covered);
-  result_in_out->mosaic_pixel_m = grid.pixel_m;
-  result_in_out->mosaic_origin_m = {mosaic.grid().h0_m + covered.x * grid.pixel_m,
-                                    mosaic.grid().s0_m + covered.y * grid.pixel_m};
+  UnrolledMosaicMap map = MosaicAtPoses(manifest, camera, gain_mask, poses, grid.radius_m,
+                                        grid.pixel_m, reach, spacing_cells * grid.pixel_m);
+  result->mosaic = std::move(map.image);
+  result->mosaic_pixel_m = map.pixel_m;
+  result->mosaic_origin_m = map.origin_m;
 }
 
 // 000 Algorithm 1 bounds the search by the maximum speed and the frame rate.

@@ -40,15 +40,7 @@ void RequireRange(const std::filesystem::path& file, const std::string& key, dou
 
 void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* options) {
   const YAML::Node root = LoadYamlFile(path);
-  if (!root.IsMap()) throw InputError(path.string() + ": expected a map of option keys");
-  for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
-    if (!kKeys.count(key)) {
-      std::string valid;
-      for (const std::string& known : kKeys) valid += (valid.empty() ? "" : ", ") + known;
-      throw InputError(path.string() + ": unknown key '" + key + "' (valid: " + valid + ")");
-    }
-  }
+  RequireKnownKeys(root, path, kKeys);
   if (auto value = OptionalYamlValue<int>(root, "downsample", path)) {
     RequireRange(path, "downsample", *value, 1, 16);
     options->frames.downsample = *value;

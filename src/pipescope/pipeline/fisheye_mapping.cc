@@ -10,6 +10,7 @@
 #include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/io/image_source.h"
+#include "pipescope/io/trajectory.h"
 #include "pipescope/util/progress.h"
 #include "pipescope/util/timer.h"
 
@@ -58,14 +59,6 @@ void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
   if (summary.IsSolutionUsable()) *cam_from_world = pose.ToIsometry();
-}
-
-StampedPose ToStamped(double timestamp, const Eigen::Isometry3d& world_from_cam) {
-  StampedPose pose;
-  pose.timestamp = timestamp;
-  pose.rotation = Eigen::Quaterniond(world_from_cam.rotation()).normalized();
-  pose.position = world_from_cam.translation();
-  return pose;
 }
 
 // Straight-section and T visual odometry over the tracked key frames (001 §III-C).
@@ -261,11 +254,11 @@ void InterpolateTrajectory(const std::vector<std::pair<int, double>>& frames,
   for (const auto& [index, timestamp] : frames) {
     while (next < keyframes.size() && keyframes[next].frame_index < index) ++next;
     if (next < keyframes.size() && keyframes[next].frame_index == index) {
-      result->trajectory.push_back(ToStamped(timestamp, keyframes[next].world_from_cam));
+      result->trajectory.push_back(ToStampedPose(timestamp, keyframes[next].world_from_cam));
     } else if (next == 0) {
       continue;
     } else if (next == keyframes.size()) {
-      result->trajectory.push_back(ToStamped(timestamp, keyframes.back().world_from_cam));
+      result->trajectory.push_back(ToStampedPose(timestamp, keyframes.back().world_from_cam));
     } else {
       const FisheyeKeyframe& a = keyframes[next - 1];
       const FisheyeKeyframe& b = keyframes[next];
@@ -345,7 +338,8 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   KeyframeOdometry(camera, options, tracked, &result).Run();
   result.odometry_seconds = odometry_timer.ElapsedSeconds();
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
-    result.keyframe_trajectory.push_back(ToStamped(keyframe.timestamp, keyframe.world_from_cam));
+    result.keyframe_trajectory.push_back(
+        ToStampedPose(keyframe.timestamp, keyframe.world_from_cam));
   }
   InterpolateTrajectory(usable_frames, &result);
   return result;

@@ -1,0 +1,95 @@
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Geometry>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/estimation/surface_point.h"
+
+namespace pipescope {
+
+// Reprojection through the wall between two key frames with free six-degree-of-freedom poses
+// (beyond 000: eq. 47's error with every pose free, the basis of the window adjustment). The
+// keypoint's bearing eta_a in key frame a, cast from (q_a, C_a) (world_from_cam, quaternion in
+// Eigen's x, y, z, w order), meets the cylinder at X = C_a + kappa R_a eta_a with kappa the
+// positive root of eq. 37; X projects into key frame b through the camera model at
+//   u' = pi(R_b^T (X - C_b)),
+// and the residual is u' - u_b, u_b the keypoint observed in b (distorted pixels). The wall
+// point is a function of pose a, so no point parameters are needed: the cylinder is the
+// structure. Differentiated numerically (forward differences) around mapping/RayToWall.
+class CylinderTransferCost {
+ public:
+  CylinderTransferCost(const Camera& camera, const Eigen::Vector3d& bearing_in_a,
+                       const Eigen::Vector2d& pixel_in_b, double radius_m)
+      : camera_(camera),
+        bearing_in_a_(bearing_in_a),
+        pixel_in_b_(pixel_in_b),
+        radius_m_(radius_m) {}
+
+  static Eigen::Isometry3d Pose(const double* q, const double* p) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+    return pose;
+  }
+
+  bool operator()(const double* q_a, const double* p_a, const double* q_b, const double* p_b,
+                  double* residual) const {
+    const std::optional<Eigen::Vector3d> wall =
+        WallPointOfBearing(Pose(q_a, p_a), bearing_in_a_, radius_m_);
+    if (!wall) return false;
+    const Eigen::Vector3d point_b = Pose(q_b, p_b).inverse() * *wall;
+    Eigen::Vector2d pixel;
+    if (camera_.Project(point_b, &pixel) == ProjectionStatus::kBehindCamera) return false;
+    residual[0] = pixel.x() - pixel_in_b_.x();
+    residual[1] = pixel.y() - pixel_in_b_.y();
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Camera& camera, const Eigen::Vector3d& bearing_in_a,
+                                     const Eigen::Vector2d& pixel_in_b, double radius_m) {
+    return new ceres::NumericDiffCostFunction<CylinderTransferCost, ceres::CENTRAL, 2, 4, 3, 4, 3>(
+        new CylinderTransferCost(camera, bearing_in_a, pixel_in_b, radius_m));
+  }
+
+ private:
+  const Camera& camera_;
+  Eigen::Vector3d bearing_in_a_;
+  Eigen::Vector2d pixel_in_b_;
+  double radius_m_;
+};
+
+// Holds the two symmetries of a straight cylinder, travel along and roll about its axis, for one
+// pose: residuals weight (h - h_0) and weight (azimuth of the optical axis - its start value).
+// Without it the window adjustment's first window has no gauge.
+class CylinderGaugeCost {
+ public:
+  CylinderGaugeCost(double h0, double azimuth0, double weight)
+      : h0_(h0), azimuth0_(azimuth0), weight_(weight) {}
+
+  static double OpticalAxisAzimuth(const Eigen::Matrix3d& world_from_cam) {
+    const Eigen::Vector3d axis = world_from_cam.col(2);
+    return std::atan2(axis.y(), axis.x());
+  }
+
+  bool operator()(const double* q, const double* p, double* residual) const {
+    const Eigen::Matrix3d r =
+        Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+    residual[0] = weight_ * (p[2] - h0_);
+    residual[1] = weight_ * std::remainder(OpticalAxisAzimuth(r) - azimuth0_, 2.0 * M_PI);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(double h0, double azimuth0, double weight) {
+    return new ceres::NumericDiffCostFunction<CylinderGaugeCost, ceres::CENTRAL, 2, 4, 3>(
+        new CylinderGaugeCost(h0, azimuth0, weight));
+  }
+
+ private:
+  double h0_;
+  double azimuth0_;
+  double weight_;
+};
+
+}  // namespace pipescope

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/estimation/initial_position.h"
+
+namespace pipescope {
+
+// Joint adjustment of a window of key-frame poses (beyond 000, which refines one pose at a time,
+// §5.3.3): all six degrees of freedom of every free key frame minimise the reprojection error of
+// every track through the cylinder (CylinderTransferCost), so rotation and translation are
+// separated by all the views together instead of frame by frame (000 §5.3.4, Fig. 10).
+struct WindowAdjustmentOptions {
+  double robust_loss_px = 1.0;  // Cauchy scale on the reprojection error
+  int max_iterations = 15;
+  // Weight (1/metres and 1/radians) of the gauge prior when no key frame is held fixed.
+  double gauge_weight = 1e4;
+  // When no key frame is fixed: also hold the first key frame's position across the pipe (C_X,
+  // C_Y), i.e. its measured distance to the wall (000 §3.3, §5.3.2: "measured manually"). The
+  // reprojections through the cylinder see that distance only through the wall's curvature,
+  // which a narrow lens barely sees; left free, it (and with it the scale) follows the
+  // keypoints' localisation bias.
+  bool hold_first_cross_section = false;
+};
+
+struct WindowKeyFrame {
+  Eigen::Isometry3d pose;  // world_from_cam; updated in place
+  bool fixed = false;
+  std::vector<KeyFrameKeypoint> keypoints;
+};
+
+struct WindowAdjustmentSummary {
+  int residuals = 0;
+  double initial_rms_px = 0.0;
+  double final_rms_px = 0.0;
+};
+
+// Each track seen in two or more of the window's key frames gives one residual from its first
+// sighting a to every later sighting b. When no key frame is fixed, the first one's travel and
+// roll about the axis are held by CylinderGaugeCost.
+WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
+                                     const WindowAdjustmentOptions& options,
+                                     std::vector<WindowKeyFrame>* key_frames);
+
+}  // namespace pipescope

@@ -1,0 +1,25 @@
+#include "pipescope/feature/key_frame_selection.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pipescope {
+
+double MedianFlow(const std::vector<cv::Point2f>& from, const std::vector<cv::Point2f>& to) {
+  std::vector<double> lengths;
+  for (std::size_t i = 0; i < std::min(from.size(), to.size()); ++i) {
+    lengths.push_back(std::hypot(to[i].x - from[i].x, to[i].y - from[i].y));
+  }
+  if (lengths.empty()) return 0.0;
+  auto middle = lengths.begin() + lengths.size() / 2;
+  std::nth_element(lengths.begin(), middle, lengths.end());
+  return *middle;
+}
+
+bool EndsKeyFrameSpan(int correspondences, double median_flow_px, int image_extent_px,
+                      const KeyFrameOptions& options) {
+  return correspondences < options.min_correspondences ||
+         median_flow_px > options.max_median_flow_fraction * image_extent_px;
+}
+
+}  // namespace pipescope
