@@ -6,6 +6,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "pipescope/fisheye/cylinder_scale.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
@@ -86,8 +87,13 @@ class KeyframeOdometry {
       const int in_section = k - section.first_keyframe + 1;
       if (in_section >= 3 &&
           (in_section % options_.window_interval == 0 || k == section.last_keyframe)) {
-        AdjustWindow(std::max(section.first_keyframe, k - options_.window_size + 1), k,
-                     result_->keyframes[k].section, section.view_class == PipeViewClass::kStraight);
+        // A window never spans a tracking reset: no track links the two sides.
+        const int first =
+            std::max({section.first_keyframe, segment_start_, k - options_.window_size + 1});
+        if (k - first + 1 >= 3) {
+          AdjustWindow(first, k, result_->keyframes[k].section,
+                       section.view_class == PipeViewClass::kStraight);
+        }
       }
     }
     for (int k = 0; k < n; ++k) result_->keyframes[k].world_from_cam = cam_from_world_[k].inverse();
@@ -106,59 +112,114 @@ class KeyframeOdometry {
     }
   }
 
-  // Five-point (here: RANSAC on the sphere) direction, scale from the earlier structure, then
-  // a pose-only refinement on the triangulated points.
+  // Five-point (here: RANSAC on the sphere) direction, then the step length: in a straight
+  // section from the pipe radius (the two-view points put on the wall, eq. 6, with the axis from
+  // the last window's cylinder), otherwise from the section's earlier structure; then a
+  // pose-only refinement on the triangulated points.
   void EstimatePose(int k) {
     const TrackedKeyframe& keyframe = tracked_[k];
+    const int section = result_->keyframes[k].section;
+    const bool straight = result_->sections[section].view_class == PipeViewClass::kStraight;
+    if (section != axis_section_) {
+      // A new section: until its first window fits a cylinder, the axis is taken as the
+      // optical axis of the camera that enters it (the camera looks along the pipe).
+      axis_world_.point = cam_from_world_[k - 1].inverse().translation();
+      axis_world_.direction = cam_from_world_[k - 1].rotation().transpose().col(2);
+      axis_section_ = section;
+    }
     if (!keyframe.has_previous) {
-      cam_from_world_[k] = cam_from_world_[k - 1];
+      // Tracking started over: no correspondence links this key frame to the previous one, so
+      // it continues the last step's motion, scaled by the frames between (001 keeps the last
+      // good key frame; copying the pose would lose the distance travelled in the gap).
+      const double frames_ratio =
+          static_cast<double>(keyframe.frame_index - tracked_[k - 1].frame_index) /
+          std::max(1, last_step_frames_);
+      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+      step.translation() = frames_ratio * last_step_.translation();
+      cam_from_world_[k] = step * cam_from_world_[k - 1];
+      segment_start_ = k;
       return;
     }
     const Eigen::Matrix3d& rotation = keyframe.relative_pose.rotation;
     const Eigen::Vector3d& direction = keyframe.relative_pose.translation;
-    std::vector<double> ratios, radial;
-    std::vector<Eigen::Vector3d> points;
+    std::vector<double> ratios;
+    std::vector<Eigen::Vector3d> unit_points, points;
     std::vector<Eigen::Vector2d> pixels;
     for (const TrackedFeature& feature : keyframe.features) {
       const Track& track = tracks_[feature.track_id];
       if (track.observations.size() < 2) continue;
       const Observation& previous = track.observations[track.observations.size() - 2];
       if (previous.keyframe != k - 1) continue;
-      double depth_i, depth_j;
-      const bool triangulated = TriangulateDepthsMidpoint(rotation, direction, previous.bearing,
-                                                          feature.bearing, &depth_i, &depth_j);
-      const Eigen::Vector3d unit_point = depth_i * previous.bearing;
       if (track.has_point) {
         points.push_back(track.point);
         pixels.emplace_back(feature.pixel.x, feature.pixel.y);
-        const double parallax = std::acos(
-            std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
-        if (triangulated && depth_i > 0 && depth_j > 0 &&
-            parallax > options_.min_scale_parallax_rad) {
-          ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
-        }
-      } else if (triangulated && depth_i > 0 && depth_j > 0) {
-        radial.push_back(std::hypot(unit_point.x(), unit_point.y()));
+      }
+      double depth_i, depth_j;
+      const double parallax = std::acos(
+          std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
+      if (parallax <= options_.min_scale_parallax_rad ||
+          !TriangulateDepthsMidpoint(rotation, direction, previous.bearing, feature.bearing,
+                                     &depth_i, &depth_j) ||
+          depth_i <= 0 || depth_j <= 0) {
+        continue;
+      }
+      unit_points.push_back(depth_i * previous.bearing);
+      if (track.has_point) {
+        ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
       }
     }
-    double scale = last_scale_;
-    if (ratios.size() >= 5) {
+    // A crawler moves at a nearly constant speed: a step length more than max_step_change
+    // times off the last step's (per frame) comes from a bad axis or bad structure.
+    const int frames = keyframe.frame_index - tracked_[k - 1].frame_index;
+    const double predicted = last_step_.translation().norm() * frames / last_step_frames_;
+    const auto plausible = [&](double length) {
+      return length > 0.0 && (predicted <= 0.0 || (length < options_.max_step_change * predicted &&
+                                                   length * options_.max_step_change > predicted));
+    };
+    const double from_radius =
+        straight && static_cast<int>(unit_points.size()) >= options_.min_cylinder_scale_points
+            ? ScaleFromCylinderRadius(unit_points, AxisInCamera(k - 1), options_.window.radius_m)
+            : 0.0;
+    double scale = predicted;
+    if (plausible(from_radius)) {
+      scale = from_radius;
+      result_->keyframes[k].points_used = static_cast<int>(unit_points.size());
+    } else if (ratios.size() >= 5 && plausible(Median(ratios))) {
       scale = Median(ratios);
-    } else if (!have_scale_ && radial.size() >= 10) {
-      // No structure yet: the camera looks along the pipe, so the points' median distance from
-      // its optical axis is about the supplied radius.
-      scale = options_.window.radius_m / Median(radial);
+      result_->keyframes[k].points_used = static_cast<int>(ratios.size());
     }
-    have_scale_ = true;
-    last_scale_ = scale;
-    result_->keyframes[k].points_used = static_cast<int>(ratios.size());
     Eigen::Isometry3d cam_k_from_previous = Eigen::Isometry3d::Identity();
     cam_k_from_previous.linear() = rotation;
     cam_k_from_previous.translation() = scale * direction;
     cam_from_world_[k] = cam_k_from_previous * cam_from_world_[k - 1];
-    if (points.size() >= 10) {
+    if (options_.refine_pose_on_structure && points.size() >= 10) {
       RefinePose(camera_, points, pixels, options_.window.huber_px, &cam_from_world_[k]);
     }
+    last_step_ = cam_from_world_[k] * cam_from_world_[k - 1].inverse();
+    last_step_frames_ = std::max(1, keyframe.frame_index - tracked_[k - 1].frame_index);
+  }
+
+  // Length of the camera path through key frames first..last.
+  double PathLength(int first, int last) const {
+    return PathLength(std::vector<Eigen::Isometry3d>(cam_from_world_.begin() + first,
+                                                     cam_from_world_.begin() + last + 1));
+  }
+  static double PathLength(const std::vector<Eigen::Isometry3d>& cam_from_world) {
+    double length = 0.0;
+    for (std::size_t k = 1; k < cam_from_world.size(); ++k) {
+      length += (cam_from_world[k].inverse().translation() -
+                 cam_from_world[k - 1].inverse().translation())
+                    .norm();
+    }
+    return length;
+  }
+
+  // The current pipe axis in key frame k's camera frame.
+  PipeAxis AxisInCamera(int k) const {
+    PipeAxis axis;
+    axis.point = cam_from_world_[k] * axis_world_.point;
+    axis.direction = cam_from_world_[k].linear() * axis_world_.direction;
+    return axis;
   }
 
   void Triangulate(int k) {
@@ -225,9 +286,30 @@ class KeyframeOdometry {
     record.points = static_cast<int>(window.points.size());
     record.cylinder = cylinder;
     record.summary = OptimiseStraightWindow(camera_, window_options, &window);
-    for (int k = first; k <= last; ++k) cam_from_world_[k] = window.poses[k - first].ToIsometry();
+    // The window's path length must stay about what the radius-fixed steps gave: a window that
+    // shrinks it has fallen into the degenerate solution (cameras together, the informative
+    // observations removed as outliers, points on the wall along their rays); it is dropped.
+    std::vector<Eigen::Isometry3d> adjusted;
+    for (const WindowPose& pose : window.poses) adjusted.push_back(pose.ToIsometry());
+    const double length_ratio = PathLength(adjusted) / std::max(1e-12, PathLength(first, last));
+    if (length_ratio * options_.max_window_length_change < 1.0 ||
+        length_ratio > options_.max_window_length_change) {
+      record.rejected = true;
+      result_->windows.push_back(record);
+      return;
+    }
+    for (int k = first; k <= last; ++k) cam_from_world_[k] = adjusted[k - first];
     for (std::size_t p = 0; p < window_tracks.size(); ++p)
       window_tracks[p]->point = window.points[p];
+    if (cylinder && section == axis_section_ &&
+        record.summary.cylinder_rms_m < options_.max_axis_cylinder_rms * options_.window.radius_m) {
+      // The fitted cylinder (eq. 4, relative to the window's first pose) gives the axis that
+      // fixes the following step lengths.
+      const PipeAxis axis = StraightCylinderAxis(window.cylinder);
+      const Eigen::Isometry3d world_from_first = cam_from_world_[first].inverse();
+      axis_world_.point = world_from_first * axis.point;
+      axis_world_.direction = world_from_first.linear() * axis.direction;
+    }
     result_->windows.push_back(record);
   }
 
@@ -237,8 +319,13 @@ class KeyframeOdometry {
   FisheyeMappingResult* result_;
   std::vector<Eigen::Isometry3d> cam_from_world_;
   std::unordered_map<long, Track> tracks_;
-  double last_scale_ = 0.0;
-  bool have_scale_ = false;
+  // The last key-frame step (cam_k_from_cam_k-1) and the frames it spanned: the motion
+  // continued across a tracking reset, and the step length when nothing else fixes it.
+  Eigen::Isometry3d last_step_ = Eigen::Isometry3d::Identity();
+  int last_step_frames_ = 1;
+  int segment_start_ = 0;  // first key frame since the last tracking reset
+  PipeAxis axis_world_;    // the current straight section's axis
+  int axis_section_ = -1;
 };
 
 void BuildSections(FisheyeMappingResult* result) {

@@ -38,6 +38,20 @@ struct FisheyeMappingOptions {
   // A point fixes the relative scale only when its rays in the two key frames part by at least
   // this angle (near-parallel rays give wild depths, and their ratios bias the scale).
   double min_scale_parallax_rad = 0.03;
+  // In a straight section each key-frame step length comes from the radius: the two-view
+  // points are put on the wall of the current axis (cylinder_scale.h), so the scale does not
+  // chain from key frame to key frame. Below this many points, the earlier structure fixes it.
+  int min_cylinder_scale_points = 20;
+  // After the step, refine the pose on the already triangulated points (reprojection only).
+  bool refine_pose_on_structure = true;
+  // A step length (per frame) more than this factor off the last one is not taken; the next
+  // source (structure, then the last step's speed) is.
+  double max_step_change = 2.0;
+  // A window whose path length changes by more than this factor is dropped (degenerate).
+  double max_window_length_change = 1.5;
+  // A window's cylinder gives the axis for the step lengths only when its points fit it to
+  // this RMS, relative to the radius.
+  double max_axis_cylinder_rms = 0.025;
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
 };
@@ -71,6 +85,7 @@ struct FisheyeWindowRecord {
   int last_keyframe = 0;
   int points = 0;
   bool cylinder = true;
+  bool rejected = false;  // degenerate result (path length changed too much), not applied
   StraightWindowSummary summary;
 };
 
