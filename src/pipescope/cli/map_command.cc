@@ -63,7 +63,8 @@ std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
           {"min_cluster_size", &o->min_cluster_size},
           {"per_region", &o->tracking.harris.per_region},
           {"stages", &o->window.stages},
-          {"min_cylinder_scale_points", &o->min_cylinder_scale_points}};
+          {"min_cylinder_scale_points", &o->min_cylinder_scale_points},
+          {"speed_history", &o->speed_history}};
 }
 
 void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
@@ -96,8 +97,9 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
       throw InputError("--config " + path + ": key '" + key + "' has a malformed value");
     }
   }
-  if (options->window_interval < 1 || options->window_size < 3) {
-    throw InputError("--config " + path + ": window_interval must be >= 1, window_size >= 3");
+  if (options->window_interval < 1 || options->window_size < 3 || options->speed_history < 1) {
+    throw InputError("--config " + path +
+                     ": window_interval must be >= 1, window_size >= 3, speed_history >= 1");
   }
 }
 

@@ -127,15 +127,15 @@ class KeyframeOdometry {
       axis_world_.direction = cam_from_world_[k - 1].rotation().transpose().col(2);
       axis_section_ = section;
     }
+    const int frames = keyframe.frame_index - tracked_[k - 1].frame_index;
+    // A crawler moves at a nearly constant speed: the recent key-frame steps' median speed.
+    const double predicted = Median(recent_speeds_) * frames;
     if (!keyframe.has_previous) {
       // Tracking started over: no correspondence links this key frame to the previous one, so
-      // it continues the last step's motion, scaled by the frames between (001 keeps the last
-      // good key frame; copying the pose would lose the distance travelled in the gap).
-      const double frames_ratio =
-          static_cast<double>(keyframe.frame_index - tracked_[k - 1].frame_index) /
-          std::max(1, last_step_frames_);
+      // it continues along the last step's direction at the recent speed (copying the pose
+      // would lose the distance travelled in the gap).
       Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-      step.translation() = frames_ratio * last_step_.translation();
+      step.translation() = predicted * last_direction_;
       cam_from_world_[k] = step * cam_from_world_[k - 1];
       segment_start_ = k;
       return;
@@ -168,10 +168,8 @@ class KeyframeOdometry {
         ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
       }
     }
-    // A crawler moves at a nearly constant speed: a step length more than max_step_change
-    // times off the last step's (per frame) comes from a bad axis or bad structure.
-    const int frames = keyframe.frame_index - tracked_[k - 1].frame_index;
-    const double predicted = last_step_.translation().norm() * frames / last_step_frames_;
+    // A step length more than max_step_change times off the recent speed comes from a bad
+    // axis or bad structure.
     const auto plausible = [&](double length) {
       return length > 0.0 && (predicted <= 0.0 || (length < options_.max_step_change * predicted &&
                                                    length * options_.max_step_change > predicted));
@@ -195,8 +193,13 @@ class KeyframeOdometry {
     if (options_.refine_pose_on_structure && points.size() >= 10) {
       RefinePose(camera_, points, pixels, options_.window.huber_px, &cam_from_world_[k]);
     }
-    last_step_ = cam_from_world_[k] * cam_from_world_[k - 1].inverse();
-    last_step_frames_ = std::max(1, keyframe.frame_index - tracked_[k - 1].frame_index);
+    const Eigen::Vector3d step =
+        (cam_from_world_[k] * cam_from_world_[k - 1].inverse()).translation();
+    if (step.norm() > 0.0) last_direction_ = step.normalized();
+    recent_speeds_.push_back(step.norm() / std::max(1, frames));
+    if (static_cast<int>(recent_speeds_.size()) > options_.speed_history) {
+      recent_speeds_.erase(recent_speeds_.begin());
+    }
   }
 
   // Length of the camera path through key frames first..last.
@@ -319,10 +322,11 @@ class KeyframeOdometry {
   FisheyeMappingResult* result_;
   std::vector<Eigen::Isometry3d> cam_from_world_;
   std::unordered_map<long, Track> tracks_;
-  // The last key-frame step (cam_k_from_cam_k-1) and the frames it spanned: the motion
-  // continued across a tracking reset, and the step length when nothing else fixes it.
-  Eigen::Isometry3d last_step_ = Eigen::Isometry3d::Identity();
-  int last_step_frames_ = 1;
+  // The last key-frame steps' speeds (metres a frame) and the last step's direction (in the
+  // camera frame): the motion continued across a tracking reset, the step length when nothing
+  // else fixes it, and the check of the ones that do.
+  std::vector<double> recent_speeds_;
+  Eigen::Vector3d last_direction_ = Eigen::Vector3d::UnitZ();
   int segment_start_ = 0;  // first key frame since the last tracking reset
   PipeAxis axis_world_;    // the current straight section's axis
   int axis_section_ = -1;
