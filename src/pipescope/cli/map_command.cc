@@ -55,7 +55,8 @@ std::map<std::string, double*> DoubleKeys(FisheyeMappingOptions* o) {
           {"min_scale_parallax_rad", &o->min_scale_parallax_rad},
           {"max_step_change", &o->max_step_change},
           {"max_window_length_change", &o->max_window_length_change},
-          {"max_axis_cylinder_rms", &o->max_axis_cylinder_rms}};
+          {"max_window_cylinder_rms", &o->max_window_cylinder_rms},
+          {"max_window_rms_px", &o->max_window_rms_px}};
 }
 std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
   return {{"window_interval", &o->window_interval},
@@ -88,6 +89,8 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
         options->tracking.guided_matching = entry.second.as<bool>();
       } else if (key == "use_cylinder") {
         options->window.use_cylinder = entry.second.as<bool>();
+      } else if (key == "fit_axis_per_step") {
+        options->fit_axis_per_step = entry.second.as<bool>();
       } else if (key == "refine_pose_on_structure") {
         options->refine_pose_on_structure = entry.second.as<bool>();
       } else {
@@ -110,6 +113,7 @@ nlohmann::json OptionsJson(FisheyeMappingOptions options) {
   json["guided_matching"] = options.tracking.guided_matching;
   json["use_cylinder"] = options.window.use_cylinder;
   json["refine_pose_on_structure"] = options.refine_pose_on_structure;
+  json["fit_axis_per_step"] = options.fit_axis_per_step;
   json["radius_m"] = options.window.radius_m;
   return json;
 }

@@ -36,4 +36,13 @@ struct CylinderScaleOptions {
 double ScaleFromCylinderRadius(const std::vector<Eigen::Vector3d>& points, const PipeAxis& axis,
                                double radius, const CylinderScaleOptions& options = {});
 
+// Scale and axis together: the cylinder of radius r (eq. 4-6, 4 degrees of freedom) and the
+// scale s that put the points s x_i on its wall, by Ceres with the Cauchy loss, starting from
+// `axis` and ScaleFromCylinderRadius on it. Needs the points to span the pipe's circumference
+// (a fisheye two-view reconstruction does): then it depends on no earlier estimate, so the
+// scale cannot drift with the accumulated rotation. `axis` receives the fit. Returns 0 when
+// the fit fails.
+double FitScaleAndAxis(const std::vector<Eigen::Vector3d>& points, double radius, PipeAxis* axis,
+                       const CylinderScaleOptions& options = {});
+
 }  // namespace pipescope

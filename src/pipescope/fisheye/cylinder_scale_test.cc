@@ -64,6 +64,28 @@ TEST(CylinderScale, IsRobustToNoiseAndOutliers) {
   EXPECT_NEAR(ScaleFromCylinderRadius(points, axis, kRadius), true_scale, 0.003 * true_scale);
 }
 
+TEST(CylinderScale, FitsScaleAndAxisFromAPoorStart) {
+  // Points of a tilted, offset pipe; the fit starts from the optical axis (5 degrees and 30 mm
+  // off) and must find the true axis and scale to the noise level.
+  PipeAxis truth;
+  truth.point = Eigen::Vector3d(0.03, -0.02, 0.0);
+  truth.direction = Eigen::Vector3d(0.06, 0.05, 1.0).normalized();
+  std::vector<Eigen::Vector3d> points = WallPoints(truth, 150, 6);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> depth_noise(0.0, 0.005);
+  const double true_scale = 0.011;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const double factor = k % 10 == 0 ? 2.0 : 1.0 + depth_noise(rng);  // 10 % far off the wall
+    points[k] *= factor / true_scale;
+  }
+  PipeAxis axis;  // the optical axis
+  const double scale = FitScaleAndAxis(points, kRadius, &axis);
+  EXPECT_NEAR(scale, true_scale, 0.003 * true_scale);
+  EXPECT_GT(axis.direction.dot(truth.direction), std::cos(0.5 * M_PI / 180.0));
+  const Eigen::Vector3d offset = axis.point - truth.point;
+  EXPECT_LT((offset - offset.dot(truth.direction) * truth.direction).norm(), 0.001);
+}
+
 TEST(CylinderScale, NoPointOffTheAxisGivesZero) {
   const PipeAxis axis;
   EXPECT_EQ(ScaleFromCylinderRadius({Eigen::Vector3d(0, 0, 1)}, axis, kRadius), 0.0);

@@ -174,13 +174,21 @@ class KeyframeOdometry {
       return length > 0.0 && (predicted <= 0.0 || (length < options_.max_step_change * predicted &&
                                                    length * options_.max_step_change > predicted));
     };
-    const double from_radius =
-        straight && static_cast<int>(unit_points.size()) >= options_.min_cylinder_scale_points
-            ? ScaleFromCylinderRadius(unit_points, AxisInCamera(k - 1), options_.window.radius_m)
-            : 0.0;
+    double from_radius = 0.0;
+    PipeAxis axis = AxisInCamera(k - 1);
+    if (straight && static_cast<int>(unit_points.size()) >= options_.min_cylinder_scale_points) {
+      from_radius = options_.fit_axis_per_step
+                        ? FitScaleAndAxis(unit_points, options_.window.radius_m, &axis)
+                        : ScaleFromCylinderRadius(unit_points, axis, options_.window.radius_m);
+    }
     double scale = predicted;
     if (plausible(from_radius)) {
       scale = from_radius;
+      if (options_.fit_axis_per_step) {
+        const Eigen::Isometry3d world_from_previous = cam_from_world_[k - 1].inverse();
+        axis_world_.point = world_from_previous * axis.point;
+        axis_world_.direction = world_from_previous.linear() * axis.direction;
+      }
       result_->keyframes[k].points_used = static_cast<int>(unit_points.size());
     } else if (ratios.size() >= 5 && plausible(Median(ratios))) {
       scale = Median(ratios);
@@ -295,7 +303,11 @@ class KeyframeOdometry {
     std::vector<Eigen::Isometry3d> adjusted;
     for (const WindowPose& pose : window.poses) adjusted.push_back(pose.ToIsometry());
     const double length_ratio = PathLength(adjusted) / std::max(1e-12, PathLength(first, last));
-    if (length_ratio * options_.max_window_length_change < 1.0 ||
+    const bool converged =
+        record.summary.final_rms_px < options_.max_window_rms_px &&
+        (!cylinder || record.summary.cylinder_rms_m <
+                          options_.max_window_cylinder_rms * options_.window.radius_m);
+    if (!converged || length_ratio * options_.max_window_length_change < 1.0 ||
         length_ratio > options_.max_window_length_change) {
       record.rejected = true;
       result_->windows.push_back(record);
@@ -304,8 +316,7 @@ class KeyframeOdometry {
     for (int k = first; k <= last; ++k) cam_from_world_[k] = adjusted[k - first];
     for (std::size_t p = 0; p < window_tracks.size(); ++p)
       window_tracks[p]->point = window.points[p];
-    if (cylinder && section == axis_section_ &&
-        record.summary.cylinder_rms_m < options_.max_axis_cylinder_rms * options_.window.radius_m) {
+    if (cylinder && section == axis_section_) {
       // The fitted cylinder (eq. 4, relative to the window's first pose) gives the axis that
       // fixes the following step lengths.
       const PipeAxis axis = StraightCylinderAxis(window.cylinder);

@@ -42,6 +42,10 @@ struct FisheyeMappingOptions {
   // points are put on the wall of the current axis (cylinder_scale.h), so the scale does not
   // chain from key frame to key frame. Below this many points, the earlier structure fixes it.
   int min_cylinder_scale_points = 20;
+  // Fit the axis together with the scale to each step's two-view points (FitScaleAndAxis), so
+  // the step length depends on no earlier estimate; false: the scale alone, on the axis of the
+  // last window (which drifts with the accumulated rotation error).
+  bool fit_axis_per_step = true;
   // After the step, refine the pose on the already triangulated points (reprojection only).
   // Off: on the straight benchmark the refinement pulled steps to 0.2-14 times their length
   // wherever the earlier structure was inconsistent, and the speed check then followed them.
@@ -52,9 +56,11 @@ struct FisheyeMappingOptions {
   int speed_history = 10;
   // A window whose path length changes by more than this factor is dropped (degenerate).
   double max_window_length_change = 1.5;
-  // A window's cylinder gives the axis for the step lengths only when its points fit it to
-  // this RMS, relative to the radius.
-  double max_axis_cylinder_rms = 0.025;
+  // A window is applied only when it converged: image RMS below max_window_rms_px and, with
+  // the cylinder, its points on the wall to max_window_cylinder_rms * r (RMS). Its cylinder
+  // then gives the axis for the following step lengths.
+  double max_window_rms_px = 1.5;
+  double max_window_cylinder_rms = 0.025;
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
 };
