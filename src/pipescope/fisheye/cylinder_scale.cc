@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/solve_small_problem.h"
 
 namespace pipescope {
 namespace {
@@ -111,12 +112,7 @@ double FitScaleAndAxis(const std::vector<Eigen::Vector3d>& points, double radius
                              new ceres::CauchyLoss(options.cauchy_fraction * radius), cylinder,
                              &scale);
   }
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = 25;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  const ceres::Solver::Summary summary = SolveSmallProblem(&problem, 25);
   if (!summary.IsSolutionUsable() || scale <= 0.0) return 0.0;
   *axis = StraightCylinderAxis(cylinder);
   return scale;

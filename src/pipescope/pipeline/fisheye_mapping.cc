@@ -9,6 +9,7 @@
 #include "pipescope/fisheye/cylinder_scale.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/solve_small_problem.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/util/progress.h"
@@ -52,12 +53,7 @@ void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points
     problem.SetParameterBlockConstant(fixed[k].data());
   }
   problem.SetManifold(pose.rotation, new ceres::QuaternionManifold);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = 10;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  const ceres::Solver::Summary summary = SolveSmallProblem(&problem, 10);
   if (summary.IsSolutionUsable()) *cam_from_world = pose.ToIsometry();
 }
 
