@@ -65,7 +65,8 @@ std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
           {"per_region", &o->tracking.harris.per_region},
           {"stages", &o->window.stages},
           {"min_cylinder_scale_points", &o->min_cylinder_scale_points},
-          {"speed_history", &o->speed_history}};
+          {"speed_history", &o->speed_history},
+          {"stale_axis_keyframes", &o->stale_axis_keyframes}};
 }
 
 void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {

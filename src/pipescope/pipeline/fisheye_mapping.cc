@@ -122,6 +122,7 @@ class KeyframeOdometry {
       axis_world_.point = cam_from_world_[k - 1].inverse().translation();
       axis_world_.direction = cam_from_world_[k - 1].rotation().transpose().col(2);
       axis_section_ = section;
+      axis_keyframe_ = k;
     }
     const int frames = keyframe.frame_index - tracked_[k - 1].frame_index;
     // A crawler moves at a nearly constant speed: the recent key-frame steps' median speed.
@@ -172,15 +173,18 @@ class KeyframeOdometry {
     };
     double from_radius = 0.0;
     PipeAxis axis = AxisInCamera(k - 1);
+    // The window axis goes stale with the accumulated rotation when no window has been applied
+    // for a window's length: then the axis is fitted with the scale to the step's own points.
+    const bool fit_axis =
+        options_.fit_axis_per_step || k - axis_keyframe_ > options_.stale_axis_keyframes;
     if (straight && static_cast<int>(unit_points.size()) >= options_.min_cylinder_scale_points) {
-      from_radius = options_.fit_axis_per_step
-                        ? FitScaleAndAxis(unit_points, options_.window.radius_m, &axis)
-                        : ScaleFromCylinderRadius(unit_points, axis, options_.window.radius_m);
+      from_radius = fit_axis ? FitScaleAndAxis(unit_points, options_.window.radius_m, &axis)
+                             : ScaleFromCylinderRadius(unit_points, axis, options_.window.radius_m);
     }
     double scale = predicted;
     if (plausible(from_radius)) {
       scale = from_radius;
-      if (options_.fit_axis_per_step) {
+      if (fit_axis) {
         const Eigen::Isometry3d world_from_previous = cam_from_world_[k - 1].inverse();
         axis_world_.point = world_from_previous * axis.point;
         axis_world_.direction = world_from_previous.linear() * axis.direction;
@@ -319,6 +323,7 @@ class KeyframeOdometry {
       const Eigen::Isometry3d world_from_first = cam_from_world_[first].inverse();
       axis_world_.point = world_from_first * axis.point;
       axis_world_.direction = world_from_first.linear() * axis.direction;
+      axis_keyframe_ = last;
     }
     result_->windows.push_back(record);
   }
@@ -337,6 +342,7 @@ class KeyframeOdometry {
   int segment_start_ = 0;  // first key frame since the last tracking reset
   PipeAxis axis_world_;    // the current straight section's axis
   int axis_section_ = -1;
+  int axis_keyframe_ = 0;  // key frame of the last applied window (or the section's start)
 };
 
 void BuildSections(FisheyeMappingResult* result) {

@@ -48,6 +48,9 @@ struct FisheyeMappingOptions {
   // axis held the scale to 2 % for 240 key frames, then halved it after the tracking reset
   // (-19.7 % distance); the window axis gave -5.9 % (docs/fisheye_mapping.md).
   bool fit_axis_per_step = false;
+  // ... but when no window has been applied for this many key frames, the window axis is stale
+  // (rotation drift) and the axis is fitted per step until a window is applied again.
+  int stale_axis_keyframes = 50;
   // After the step, refine the pose on the already triangulated points (reprojection only).
   // Off: on the straight benchmark the refinement pulled steps to 0.2-14 times their length
   // wherever the earlier structure was inconsistent, and the speed check then followed them.
