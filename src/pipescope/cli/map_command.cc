@@ -52,14 +52,22 @@ std::map<std::string, double*> DoubleKeys(FisheyeMappingOptions* o) {
           {"max_straight_moment_ratio", &o->classification.max_straight_moment_ratio},
           {"dark_fraction_of_median", &o->classification.dark_fraction_of_median},
           {"max_view_angle_deg", &o->tracking.max_view_angle_deg},
-          {"min_triangulation_angle_deg", &o->min_triangulation_angle_deg}};
+          {"min_triangulation_angle_deg", &o->min_triangulation_angle_deg},
+          {"min_scale_parallax_rad", &o->min_scale_parallax_rad},
+          {"max_step_change", &o->max_step_change},
+          {"max_window_length_change", &o->max_window_length_change},
+          {"max_window_cylinder_rms", &o->max_window_cylinder_rms},
+          {"max_window_rms_px", &o->max_window_rms_px}};
 }
 std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
   return {{"window_interval", &o->window_interval},
           {"window_size", &o->window_size},
           {"min_cluster_size", &o->min_cluster_size},
           {"per_region", &o->tracking.harris.per_cell},
-          {"stages", &o->window.stages}};
+          {"stages", &o->window.stages},
+          {"min_cylinder_scale_points", &o->min_cylinder_scale_points},
+          {"speed_history", &o->speed_history},
+          {"stale_axis_keyframes", &o->stale_axis_keyframes}};
 }
 
 void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
@@ -83,6 +91,10 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
         options->tracking.guided_matching = entry.second.as<bool>();
       } else if (key == "use_cylinder") {
         options->window.use_cylinder = entry.second.as<bool>();
+      } else if (key == "fit_axis_per_step") {
+        options->fit_axis_per_step = entry.second.as<bool>();
+      } else if (key == "refine_pose_on_structure") {
+        options->refine_pose_on_structure = entry.second.as<bool>();
       } else {
         throw InputError("--config " + path + ": unknown key '" + key + "'");
       }
@@ -90,8 +102,9 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
       throw InputError("--config " + path + ": key '" + key + "' has a malformed value");
     }
   }
-  if (options->window_interval < 1 || options->window_size < 3) {
-    throw InputError("--config " + path + ": window_interval must be >= 1, window_size >= 3");
+  if (options->window_interval < 1 || options->window_size < 3 || options->speed_history < 1) {
+    throw InputError("--config " + path +
+                     ": window_interval must be >= 1, window_size >= 3, speed_history >= 1");
   }
 }
 
@@ -101,6 +114,8 @@ nlohmann::json OptionsJson(FisheyeMappingOptions options) {
   for (const auto& [key, value] : IntKeys(&options)) json[key] = *value;
   json["guided_matching"] = options.tracking.guided_matching;
   json["use_cylinder"] = options.window.use_cylinder;
+  json["refine_pose_on_structure"] = options.refine_pose_on_structure;
+  json["fit_axis_per_step"] = options.fit_axis_per_step;
   json["radius_m"] = options.window.radius_m;
   return json;
 }
@@ -224,6 +239,7 @@ int RunMap(const MapFlags& flags) {
                        {"last_keyframe", window.last_keyframe},
                        {"points", window.points},
                        {"cylinder", window.cylinder},
+                       {"rejected", window.rejected},
                        {"observations", window.summary.observations},
                        {"outliers_removed", window.summary.outliers_removed},
                        {"initial_rms_px", window.summary.initial_rms_px},

@@ -90,8 +90,11 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     bearings_j.push_back(bearing_j);
     usable_matches.push_back(match);
   }
+  // The last key-frame step is the motion prior (a crawler moves smoothly along the pipe).
+  std::vector<Eigen::Matrix3d> priors;
+  if (last_motion_) priors.push_back(last_motion_->essential);
   const SphereRelativePose pose =
-      EstimateSphereRelativePose(bearings_i, bearings_j, options_.relative_pose);
+      EstimateSphereRelativePose(bearings_i, bearings_j, options_.relative_pose, priors);
   step.inliers = pose.num_inliers;
   if (!pose.success || pose.num_inliers < options_.min_inliers) {
     step.usable = false;
@@ -163,6 +166,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   *keyframe = TrackedKeyframe();
   keyframe->has_previous = true;
   keyframe->relative_pose = pose;
+  last_motion_ = pose;
   keyframe->matches_cosine = matches_cosine;
   keyframe->matches_guided = matches_guided;
   keyframe->median_flow_px = step.median_flow_px;

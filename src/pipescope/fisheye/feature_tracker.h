@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,7 +81,8 @@ class FeatureTracker {
   // always a key frame. When the step makes a key frame, `*keyframe` receives it.
   TrackingStep Track(const cv::Mat& grey, int frame_index, TrackedKeyframe* keyframe);
 
-  // Starts over: the next frame becomes a key frame without a link to the previous one.
+  // Starts over: the next frame becomes a key frame without a link to the previous one (the
+  // last step stays the motion prior).
   void Reset() { last_.reset(); }
 
   const BearingTable& bearings() const { return bearings_; }
@@ -104,6 +106,7 @@ class FeatureTracker {
   BearingTable bearings_;
   cv::Mat detection_mask_;
   std::unique_ptr<KeyframeState> last_;
+  std::optional<SphereRelativePose> last_motion_;  // the last key-frame step, a RANSAC prior
   long next_track_id_ = 0;
 };
 

@@ -63,6 +63,16 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   const float n2 = static_cast<float>(normal.z());
   const float threshold = static_cast<float>(options.epipolar_threshold);
   const int area = side * side;
+  // Window sums of the search box from its integral images, so that each candidate costs only
+  // the cross term.
+  const cv::Rect box(x0 - half, y0 - half, x1 - x0 + side, y1 - y0 + side);
+  cv::Mat sums, square_sums;
+  cv::integral(grey_j(box), sums, square_sums, CV_64F, CV_64F);
+  const auto window_sum = [&](const cv::Mat& integral, int x, int y) {
+    const int u = x - x0, v = y - y0;  // window top-left in the box
+    return integral.at<double>(v + side, u + side) - integral.at<double>(v, u + side) -
+           integral.at<double>(v + side, u) + integral.at<double>(v, u);
+  };
   float best = -2.f;
   int best_x = -1, best_y = -1;
   for (int y = y0; y <= y1; ++y) {
@@ -73,19 +83,17 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
       const cv::Vec3f& eta = eta_row[x];
       if (std::abs(eta[0] * n0 + eta[1] * n1 + eta[2] * n2) >= threshold) continue;
       // ZNCC against the zero-mean unit template: sum(t p) / sqrt(sum p^2 - (sum p)^2 / n).
-      float sum = 0.f, sum_sq = 0.f, cross = 0.f;
+      const double sum = window_sum(sums, x, y);
+      const double sum_sq = window_sum(square_sums, x, y);
+      float cross = 0.f;
       for (int v = -half; v <= half; ++v) {
         const float* row = grey_j.ptr<float>(y + v) + x - half;
         const float* t = normalised_i.ptr<float>(v + half);
-        for (int u = 0; u < side; ++u) {
-          sum += row[u];
-          sum_sq += row[u] * row[u];
-          cross += t[u] * row[u];
-        }
+        for (int u = 0; u < side; ++u) cross += t[u] * row[u];
       }
-      const float variance = sum_sq - sum * sum / area;
-      if (variance <= 1e-6f) continue;
-      const float score = cross / std::sqrt(variance);
+      const double variance = sum_sq - sum * sum / area;
+      if (variance <= 1e-6) continue;
+      const float score = cross / static_cast<float>(std::sqrt(variance));
       scores.at<float>(y - y0, x - x0) = score;
       if (score > best) {
         best = score;

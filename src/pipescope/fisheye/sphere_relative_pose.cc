@@ -148,18 +148,46 @@ int DecomposeEssentialOnSphere(const Eigen::Matrix3d& essential,
   return best_count;
 }
 
+namespace {
+
+// Samples needed to draw one all-inlier eight-point sample with `confidence`.
+int RansacIterationsNeeded(int inliers, int n, double confidence) {
+  const double all_inlier_probability = std::pow(static_cast<double>(inliers) / n, 8);
+  if (all_inlier_probability >= 1.0) return 0;
+  return static_cast<int>(
+      std::ceil(std::log(1.0 - confidence) / std::log(1.0 - all_inlier_probability + 1e-300)));
+}
+
+}  // namespace
+
 SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>& bearings_i,
                                               const std::vector<Eigen::Vector3d>& bearings_j,
-                                              const SphereRelativePoseOptions& options) {
+                                              const SphereRelativePoseOptions& options,
+                                              const std::vector<Eigen::Matrix3d>& priors) {
   SphereRelativePose result;
   const int n = static_cast<int>(bearings_i.size());
   if (n < 8 || bearings_j.size() != bearings_i.size()) return result;
+  // Motion priors are scored like any hypothesis, before the random samples: with a third of
+  // the matches right, an all-inlier eight-point sample is rare (0.3^8), a prior is not.
+  for (const Eigen::Matrix3d& prior : priors) {
+    std::vector<char> prior_inliers;
+    int count = 0;
+    CountInliers(prior, bearings_i, bearings_j, options.inlier_threshold_rad, &prior_inliers,
+                 &count);
+    if (count > result.num_inliers) {
+      result.num_inliers = count;
+      result.essential = prior;
+      result.inliers = prior_inliers;
+    }
+  }
   std::mt19937_64 rng(options.seed);
   std::vector<int> all(n);
   std::iota(all.begin(), all.end(), 0);
   std::vector<int> sample(8);
   std::vector<char> inliers;
-  int needed = options.max_iterations;
+  int needed = result.num_inliers > 0
+                   ? RansacIterationsNeeded(result.num_inliers, n, options.confidence)
+                   : options.max_iterations;
   int iteration = 0;
   for (; iteration < std::max(needed, options.min_iterations) && iteration < options.max_iterations;
        ++iteration) {
@@ -177,12 +205,7 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
       result.num_inliers = count;
       result.essential = essential;
       result.inliers = inliers;
-      const double inlier_ratio = static_cast<double>(count) / n;
-      const double all_inlier_probability = std::pow(inlier_ratio, 8);
-      needed = all_inlier_probability >= 1.0
-                   ? 0
-                   : static_cast<int>(std::ceil(std::log(1.0 - options.confidence) /
-                                                std::log(1.0 - all_inlier_probability + 1e-300)));
+      needed = RansacIterationsNeeded(count, n, options.confidence);
     }
   }
   result.iterations = iteration;

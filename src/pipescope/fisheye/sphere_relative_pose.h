@@ -69,9 +69,12 @@ int DecomposeEssentialOnSphere(const Eigen::Matrix3d& essential,
                                const std::vector<char>& inliers, Eigen::Matrix3d* rotation,
                                Eigen::Vector3d* translation);
 
-// RANSAC + refinement as described above. Needs at least 8 correspondences.
+// RANSAC + refinement as described above. Needs at least 8 correspondences. `priors`:
+// essential matrices of likely motions (e.g. the previous key-frame step), scored as RANSAC
+// hypotheses before the random samples.
 SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>& bearings_i,
                                               const std::vector<Eigen::Vector3d>& bearings_j,
-                                              const SphereRelativePoseOptions& options = {});
+                                              const SphereRelativePoseOptions& options = {},
+                                              const std::vector<Eigen::Matrix3d>& priors = {});
 
 }  // namespace pipescope

@@ -123,6 +123,32 @@ TEST(SphereRelativePoseTest, LinearEssentialSatisfiesEpipolarConstraintAndDecomp
   EXPECT_NEAR(std::hypot(point_i.x(), point_i.y()), 0.2, 1e-9);
 }
 
+TEST(SphereRelativePoseTest, MotionPriorFindsThePoseAmongMostlyWrongMatches) {
+  // 75 % wrong matches: an all-inlier eight-point sample has probability 0.25^8 = 1.5e-5, so
+  // 200 random samples almost never find the pose; a prior a few tenths of a degree and a few
+  // degrees of direction off the truth seeds the inlier set, and the refinement recovers it.
+  const SphereScene scene = MakeScene(/*noise_rad=*/0.0005, /*outlier_fraction=*/0.75, 13);
+  SphereRelativePoseOptions options;
+  options.max_iterations = 200;
+  options.inlier_threshold_rad = 0.01;
+  const Eigen::Matrix3d prior_rotation =
+      Eigen::AngleAxisd(0.003, Eigen::Vector3d::UnitY()).toRotationMatrix() * scene.rotation;
+  const Eigen::Vector3d prior_translation =
+      (scene.translation.normalized() + Eigen::Vector3d(0.03, -0.02, 0.0)).normalized();
+  Eigen::Matrix3d skew;
+  skew << 0, -prior_translation.z(), prior_translation.y(), prior_translation.z(), 0,
+      -prior_translation.x(), -prior_translation.y(), prior_translation.x(), 0;
+  const SphereRelativePose without =
+      EstimateSphereRelativePose(scene.bearings_i, scene.bearings_j, options);
+  const SphereRelativePose with = EstimateSphereRelativePose(scene.bearings_i, scene.bearings_j,
+                                                             options, {skew * prior_rotation});
+  ASSERT_TRUE(with.success);
+  EXPECT_LT(AngleDeg(with.rotation, scene.rotation), 0.1);
+  EXPECT_GT(with.translation.dot(scene.translation.normalized()), std::cos(2.0 * kPi / 180.0));
+  EXPECT_GT(with.num_inliers, 0.9 * 75);
+  EXPECT_GT(with.num_inliers, without.num_inliers);
+}
+
 TEST(SphereRelativePoseTest, TooFewCorrespondencesFail) {
   const SphereScene scene = MakeScene(0.0, 0.0, 5);
   const std::vector<Eigen::Vector3d> few_i(scene.bearings_i.begin(), scene.bearings_i.begin() + 7);

@@ -7,6 +7,7 @@
 
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/solve_small_problem.h"
 #include "pipescope/fisheye/straight_cylinder_error.h"
 #include "pipescope/util/timer.h"
 
@@ -78,12 +79,7 @@ double FitStraightCylinder(const StraightWindowOptions& options, StraightWindow*
   }
   problem.SetParameterBlockConstant(window->poses[0].rotation);
   problem.SetParameterBlockConstant(window->poses[0].translation);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = 50;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  SolveSmallProblem(&problem, 50);
   return CylinderRms(options, *window);
 }
 

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "pipescope/fisheye/cylinder_scale.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/solve_small_problem.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/io/trajectory.h"
@@ -52,12 +54,7 @@ void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points
     problem.SetParameterBlockConstant(fixed[k].data());
   }
   problem.SetManifold(pose.rotation, new ceres::QuaternionManifold);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = 10;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  const ceres::Solver::Summary summary = SolveSmallProblem(&problem, 10);
   if (summary.IsSolutionUsable()) *cam_from_world = pose.ToIsometry();
 }
 
@@ -79,8 +76,13 @@ class KeyframeOdometry {
       const int in_section = k - section.first_keyframe + 1;
       if (in_section >= 3 &&
           (in_section % options_.window_interval == 0 || k == section.last_keyframe)) {
-        AdjustWindow(std::max(section.first_keyframe, k - options_.window_size + 1), k,
-                     result_->keyframes[k].section, section.view_class == PipeViewClass::kStraight);
+        // A window never spans a tracking reset: no track links the two sides.
+        const int first =
+            std::max({section.first_keyframe, segment_start_, k - options_.window_size + 1});
+        if (k - first + 1 >= 3) {
+          AdjustWindow(first, k, result_->keyframes[k].section,
+                       section.view_class == PipeViewClass::kStraight);
+        }
       }
     }
     for (int k = 0; k < n; ++k) result_->keyframes[k].world_from_cam = cam_from_world_[k].inverse();
@@ -99,59 +101,129 @@ class KeyframeOdometry {
     }
   }
 
-  // Five-point (here: RANSAC on the sphere) direction, scale from the earlier structure, then
-  // a pose-only refinement on the triangulated points.
+  // Five-point (here: RANSAC on the sphere) direction, then the step length: in a straight
+  // section from the pipe radius (the two-view points put on the wall, eq. 6, with the axis from
+  // the last window's cylinder), otherwise from the section's earlier structure; then a
+  // pose-only refinement on the triangulated points.
   void EstimatePose(int k) {
     const TrackedKeyframe& keyframe = tracked_[k];
+    const int section = result_->keyframes[k].section;
+    const bool straight = result_->sections[section].view_class == PipeViewClass::kStraight;
+    if (section != axis_section_) {
+      // A new section: until its first window fits a cylinder, the axis is taken as the
+      // optical axis of the camera that enters it (the camera looks along the pipe).
+      axis_world_.point = cam_from_world_[k - 1].inverse().translation();
+      axis_world_.direction = cam_from_world_[k - 1].rotation().transpose().col(2);
+      axis_section_ = section;
+      axis_keyframe_ = k;
+    }
+    const int frames = keyframe.frame_index - tracked_[k - 1].frame_index;
+    // A crawler moves at a nearly constant speed: the recent key-frame steps' median speed.
+    const double predicted = Median(recent_speeds_) * frames;
     if (!keyframe.has_previous) {
-      cam_from_world_[k] = cam_from_world_[k - 1];
+      // Tracking started over: no correspondence links this key frame to the previous one, so
+      // it continues along the last step's direction at the recent speed (copying the pose
+      // would lose the distance travelled in the gap).
+      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+      step.translation() = predicted * last_direction_;
+      cam_from_world_[k] = step * cam_from_world_[k - 1];
+      segment_start_ = k;
       return;
     }
     const Eigen::Matrix3d& rotation = keyframe.relative_pose.rotation;
     const Eigen::Vector3d& direction = keyframe.relative_pose.translation;
-    std::vector<double> ratios, radial;
-    std::vector<Eigen::Vector3d> points;
+    std::vector<double> ratios;
+    std::vector<Eigen::Vector3d> unit_points, points;
     std::vector<Eigen::Vector2d> pixels;
     for (const TrackedFeature& feature : keyframe.features) {
       const Track& track = tracks_[feature.track_id];
       if (track.observations.size() < 2) continue;
       const Observation& previous = track.observations[track.observations.size() - 2];
       if (previous.keyframe != k - 1) continue;
-      double depth_i, depth_j;
-      const bool triangulated = TriangulateDepthsMidpoint(rotation, direction, previous.bearing,
-                                                          feature.bearing, &depth_i, &depth_j);
-      const Eigen::Vector3d unit_point = depth_i * previous.bearing;
       if (track.has_point) {
         points.push_back(track.point);
         pixels.emplace_back(feature.pixel.x, feature.pixel.y);
-        const double parallax = std::acos(
-            std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
-        if (triangulated && depth_i > 0 && depth_j > 0 &&
-            parallax > options_.min_scale_parallax_rad) {
-          ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
-        }
-      } else if (triangulated && depth_i > 0 && depth_j > 0) {
-        radial.push_back(std::hypot(unit_point.x(), unit_point.y()));
+      }
+      double depth_i, depth_j;
+      const double parallax = std::acos(
+          std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
+      if (parallax <= options_.min_scale_parallax_rad ||
+          !TriangulateDepthsMidpoint(rotation, direction, previous.bearing, feature.bearing,
+                                     &depth_i, &depth_j) ||
+          depth_i <= 0 || depth_j <= 0) {
+        continue;
+      }
+      unit_points.push_back(depth_i * previous.bearing);
+      if (track.has_point) {
+        ratios.push_back((cam_from_world_[k - 1] * track.point).norm() / depth_i);
       }
     }
-    double scale = last_scale_;
-    if (ratios.size() >= 5) {
-      scale = Median(ratios);
-    } else if (!have_scale_ && radial.size() >= 10) {
-      // No structure yet: the camera looks along the pipe, so the points' median distance from
-      // its optical axis is about the supplied radius.
-      scale = options_.window.radius_m / Median(radial);
+    // A step length more than max_step_change times off the recent speed comes from a bad
+    // axis or bad structure.
+    const auto plausible = [&](double length) {
+      return length > 0.0 && (predicted <= 0.0 || (length < options_.max_step_change * predicted &&
+                                                   length * options_.max_step_change > predicted));
+    };
+    double from_radius = 0.0;
+    PipeAxis axis = AxisInCamera(k - 1);
+    // The window axis goes stale with the accumulated rotation when no window has been applied
+    // for a window's length: then the axis is fitted with the scale to the step's own points.
+    const bool fit_axis =
+        options_.fit_axis_per_step || k - axis_keyframe_ > options_.stale_axis_keyframes;
+    if (straight && static_cast<int>(unit_points.size()) >= options_.min_cylinder_scale_points) {
+      from_radius = fit_axis ? FitScaleAndAxis(unit_points, options_.window.radius_m, &axis)
+                             : ScaleFromCylinderRadius(unit_points, axis, options_.window.radius_m);
     }
-    have_scale_ = true;
-    last_scale_ = scale;
-    result_->keyframes[k].points_used = static_cast<int>(ratios.size());
+    double scale = predicted;
+    if (plausible(from_radius)) {
+      scale = from_radius;
+      if (fit_axis) {
+        const Eigen::Isometry3d world_from_previous = cam_from_world_[k - 1].inverse();
+        axis_world_.point = world_from_previous * axis.point;
+        axis_world_.direction = world_from_previous.linear() * axis.direction;
+      }
+      result_->keyframes[k].points_used = static_cast<int>(unit_points.size());
+    } else if (ratios.size() >= 5 && plausible(Median(ratios))) {
+      scale = Median(ratios);
+      result_->keyframes[k].points_used = static_cast<int>(ratios.size());
+    }
     Eigen::Isometry3d cam_k_from_previous = Eigen::Isometry3d::Identity();
     cam_k_from_previous.linear() = rotation;
     cam_k_from_previous.translation() = scale * direction;
     cam_from_world_[k] = cam_k_from_previous * cam_from_world_[k - 1];
-    if (points.size() >= 10) {
+    if (options_.refine_pose_on_structure && points.size() >= 10) {
       RefinePose(camera_, points, pixels, options_.window.huber_px, &cam_from_world_[k]);
     }
+    const Eigen::Vector3d step =
+        (cam_from_world_[k] * cam_from_world_[k - 1].inverse()).translation();
+    if (step.norm() > 0.0) last_direction_ = step.normalized();
+    recent_speeds_.push_back(step.norm() / std::max(1, frames));
+    if (static_cast<int>(recent_speeds_.size()) > options_.speed_history) {
+      recent_speeds_.erase(recent_speeds_.begin());
+    }
+  }
+
+  // Length of the camera path through key frames first..last.
+  double PathLength(int first, int last) const {
+    return PathLength(std::vector<Eigen::Isometry3d>(cam_from_world_.begin() + first,
+                                                     cam_from_world_.begin() + last + 1));
+  }
+  static double PathLength(const std::vector<Eigen::Isometry3d>& cam_from_world) {
+    double length = 0.0;
+    for (std::size_t k = 1; k < cam_from_world.size(); ++k) {
+      length += (cam_from_world[k].inverse().translation() -
+                 cam_from_world[k - 1].inverse().translation())
+                    .norm();
+    }
+    return length;
+  }
+
+  // The current pipe axis in key frame k's camera frame.
+  PipeAxis AxisInCamera(int k) const {
+    PipeAxis axis;
+    axis.point = cam_from_world_[k] * axis_world_.point;
+    axis.direction = cam_from_world_[k].linear() * axis_world_.direction;
+    return axis;
   }
 
   void Triangulate(int k) {
@@ -218,9 +290,34 @@ class KeyframeOdometry {
     record.points = static_cast<int>(window.points.size());
     record.cylinder = cylinder;
     record.summary = OptimiseStraightWindow(camera_, window_options, &window);
-    for (int k = first; k <= last; ++k) cam_from_world_[k] = window.poses[k - first].ToIsometry();
+    // The window's path length must stay about what the radius-fixed steps gave: a window that
+    // shrinks it has fallen into the degenerate solution (cameras together, the informative
+    // observations removed as outliers, points on the wall along their rays); it is dropped.
+    std::vector<Eigen::Isometry3d> adjusted;
+    for (const WindowPose& pose : window.poses) adjusted.push_back(pose.ToIsometry());
+    const double length_ratio = PathLength(adjusted) / std::max(1e-12, PathLength(first, last));
+    const bool converged =
+        record.summary.final_rms_px < options_.max_window_rms_px &&
+        (!cylinder || record.summary.cylinder_rms_m <
+                          options_.max_window_cylinder_rms * options_.window.radius_m);
+    if (!converged || length_ratio * options_.max_window_length_change < 1.0 ||
+        length_ratio > options_.max_window_length_change) {
+      record.rejected = true;
+      result_->windows.push_back(record);
+      return;
+    }
+    for (int k = first; k <= last; ++k) cam_from_world_[k] = adjusted[k - first];
     for (std::size_t p = 0; p < window_tracks.size(); ++p)
       window_tracks[p]->point = window.points[p];
+    if (cylinder && section == axis_section_) {
+      // The fitted cylinder (eq. 4, relative to the window's first pose) gives the axis that
+      // fixes the following step lengths.
+      const PipeAxis axis = StraightCylinderAxis(window.cylinder);
+      const Eigen::Isometry3d world_from_first = cam_from_world_[first].inverse();
+      axis_world_.point = world_from_first * axis.point;
+      axis_world_.direction = world_from_first.linear() * axis.direction;
+      axis_keyframe_ = last;
+    }
     result_->windows.push_back(record);
   }
 
@@ -230,8 +327,15 @@ class KeyframeOdometry {
   FisheyeMappingResult* result_;
   std::vector<Eigen::Isometry3d> cam_from_world_;
   std::unordered_map<long, Track> tracks_;
-  double last_scale_ = 0.0;
-  bool have_scale_ = false;
+  // The last key-frame steps' speeds (metres a frame) and the last step's direction (in the
+  // camera frame): the motion continued across a tracking reset, the step length when nothing
+  // else fixes it, and the check of the ones that do.
+  std::vector<double> recent_speeds_;
+  Eigen::Vector3d last_direction_ = Eigen::Vector3d::UnitZ();
+  int segment_start_ = 0;  // first key frame since the last tracking reset
+  PipeAxis axis_world_;    // the current straight section's axis
+  int axis_section_ = -1;
+  int axis_keyframe_ = 0;  // key frame of the last applied window (or the section's start)
 };
 
 void BuildSections(FisheyeMappingResult* result) {

@@ -38,6 +38,34 @@ struct FisheyeMappingOptions {
   // A point fixes the relative scale only when its rays in the two key frames part by at least
   // this angle (near-parallel rays give wild depths, and their ratios bias the scale).
   double min_scale_parallax_rad = 0.03;
+  // In a straight section each key-frame step length comes from the radius: the two-view
+  // points are put on the wall of the current axis (cylinder_scale.h), so the scale does not
+  // chain from key frame to key frame. Below this many points, the earlier structure fixes it.
+  int min_cylinder_scale_points = 20;
+  // Fit the axis together with the scale to each step's two-view points (FitScaleAndAxis), so
+  // the step length depends on no earlier estimate; false: the scale alone, on the axis of the
+  // last converged window. Off: on the first 340 frames of the straight benchmark the per-step
+  // axis held the scale to 2 % for 240 key frames, then halved it after the tracking reset
+  // (-19.7 % distance); the window axis gave -5.9 % (docs/fisheye_mapping.md).
+  bool fit_axis_per_step = false;
+  // ... but when no window has been applied for this many key frames, the window axis is stale
+  // (rotation drift) and the axis is fitted per step until a window is applied again.
+  int stale_axis_keyframes = 50;
+  // After the step, refine the pose on the already triangulated points (reprojection only).
+  // Off: on the straight benchmark the refinement pulled steps to 0.2-14 times their length
+  // wherever the earlier structure was inconsistent, and the speed check then followed them.
+  bool refine_pose_on_structure = false;
+  // A step length more than this factor off the median speed of the last speed_history steps
+  // is not taken; the next source (structure, then that speed) is.
+  double max_step_change = 2.0;
+  int speed_history = 10;
+  // A window whose path length changes by more than this factor is dropped (degenerate).
+  double max_window_length_change = 1.5;
+  // A window is applied only when it converged: image RMS below max_window_rms_px and, with
+  // the cylinder, its points on the wall to max_window_cylinder_rms * r (RMS). Its cylinder
+  // then gives the axis for the following step lengths.
+  double max_window_rms_px = 1.5;
+  double max_window_cylinder_rms = 0.025;
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
 };
@@ -71,6 +99,7 @@ struct FisheyeWindowRecord {
   int last_keyframe = 0;
   int points = 0;
   bool cylinder = true;
+  bool rejected = false;  // degenerate result (path length changed too much), not applied
   StraightWindowSummary summary;
 };
 
