@@ -38,6 +38,10 @@ void PrepareRegistrationPair(const cv::Mat& reference, const cv::Mat& next, cons
   ToFloat(next, next_float);
 }
 
+cv::Rect OverlapAtShift(cv::Size size, cv::Point shift) {
+  return cv::Rect(-shift, size) & cv::Rect(cv::Point(0, 0), size);
+}
+
 int NumPyramidLevels(cv::Size size, int max_levels, int min_size_px) {
   int levels = 1;
   int shorter = std::min(size.width, size.height);

@@ -14,6 +14,10 @@ namespace pipescope {
 void PrepareRegistrationPair(const cv::Mat& reference, const cv::Mat& next, const std::string& what,
                              cv::Mat* reference_float, cv::Mat* next_float);
 
+// The reference pixels x of a pair of images of `size` whose x + shift falls inside the next
+// image: the overlap the dense kernels compare at that shift (empty when there is none).
+cv::Rect OverlapAtShift(cv::Size size, cv::Point shift);
+
 // The number of levels of a Gaussian pyramid of an image of `size`: at most `max_levels`
 // (at least 1, the image itself), each level half the size of the one below, the coarsest
 // still at least `min_size_px` on its shorter side.

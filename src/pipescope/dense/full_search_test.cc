@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "pipescope/dense/dense_image.h"
+#include "pipescope/dense/dense_image.h"
 #include "pipescope/dense/testing.h"
 #include "pipescope/util/testing.h"
 
@@ -173,6 +175,16 @@ TEST(FullSearch, RejectsBadPairs) {
             std::string::npos);
   EXPECT_NE(InputErrorMessage([&] { RegisterFullSearch(cv::Mat(), a); }).find("empty"),
             std::string::npos);
+}
+
+// The overlap at a shift: the reference pixels x with x + t inside the next image, by closed
+// form for each sign of the shift.
+TEST(OverlapAtShift, IsTheReferencePixelsThatLandInsideTheNextImage) {
+  const cv::Size size(40, 30);
+  EXPECT_EQ(OverlapAtShift(size, {0, 0}), cv::Rect(0, 0, 40, 30));
+  EXPECT_EQ(OverlapAtShift(size, {7, -4}), cv::Rect(0, 4, 33, 26));
+  EXPECT_EQ(OverlapAtShift(size, {-7, 4}), cv::Rect(7, 0, 33, 26));
+  EXPECT_TRUE(OverlapAtShift(size, {40, 0}).empty());
 }
 
 }  // namespace

@@ -293,8 +293,7 @@ Peak EstimateTranslation(const cv::Mat& reference, const cv::Mat& next, int coar
   }
   const cv::Point shift(static_cast<int>(std::lround(estimate.x)),
                         static_cast<int>(std::lround(estimate.y)));
-  const cv::Rect overlap(std::max(0, -shift.x), std::max(0, -shift.y),
-                         reference.cols - std::abs(shift.x), reference.rows - std::abs(shift.y));
+  const cv::Rect overlap = OverlapAtShift(reference.size(), shift);
   // At zero shift the overlap is the whole image; with too little overlap a second pass is no
   // better than the first.
   if (shift == cv::Point(0, 0) || overlap.width < 16 || overlap.height < 16 ||
@@ -326,8 +325,7 @@ struct RigidResidual {
 std::optional<RigidResidual> SplitOverlapResidual(const cv::Mat& reference, const cv::Mat& next,
                                                   cv::Point shift,
                                                   const PhaseCorrelationOptions& options) {
-  const cv::Rect overlap(std::max(0, -shift.x), std::max(0, -shift.y),
-                         reference.cols - std::abs(shift.x), reference.rows - std::abs(shift.y));
+  const cv::Rect overlap = OverlapAtShift(reference.size(), shift);
   const bool split_x = overlap.width >= overlap.height;
   const cv::Size half_size = split_x ? cv::Size(overlap.width / 2, overlap.height)
                                      : cv::Size(overlap.width, overlap.height / 2);
@@ -394,12 +392,8 @@ PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const 
   // range on the coarse level, where each correlation is cheap and the peak falls off more
   // gently with angle; then the split-overlap correction (or parabolic refinements at full
   // resolution) for the sub-step angle.
-  auto score = [](const Level& level, const cv::Mat& reference_level, double angle) {
-    return FindPeak(level.With(RotateAboutCentre(reference_level, angle)),
-                    PhasePeakMethod::kParabolic);
-  };
   const cv::Mat r_coarse = BuildGaussianPyramid(r, coarse_level + 1).back();
-  if (coarse_level == 0 || options.rotation_refinements > 0) full.emplace(n, options);
+  if (coarse_level == 0) full.emplace(n, options);
   const Level& search_level = coarse_level > 0 ? *coarse : *full;
   const double step = std::max(1e-6, options.rotation_step_rad);
   const int steps = std::max(0, static_cast<int>(std::floor(options.max_rotation_rad / step)));
@@ -407,7 +401,10 @@ PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const 
   std::vector<std::optional<Peak>> peaks(2 * steps + 1);
   auto peak_of_step = [&](int k) -> const Peak& {
     std::optional<Peak>& cached = peaks[k + steps];
-    if (!cached) cached = score(search_level, r_coarse, k * step);
+    if (!cached) {
+      cached = FindPeak(search_level.With(RotateAboutCentre(r_coarse, k * step)),
+                        PhasePeakMethod::kParabolic);
+    }
     return *cached;
   };
   auto score_of_step = [&](int k) { return peak_of_step(k).height; };
@@ -444,13 +441,6 @@ PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const 
                    &height);
     angle += offset * step;
   }
-  double spacing = step;
-  for (int refinement = 0; refinement < options.rotation_refinements; ++refinement) {
-    spacing *= 0.5;
-    ParabolaVertex(score(*full, r, angle - spacing).height, score(*full, r, angle).height,
-                   score(*full, r, angle + spacing).height, &offset, &height);
-    angle += offset * spacing;
-  }
   angle = std::clamp(angle, -steps * step, steps * step);
   // The best step's correlation already holds the integer shift (within a step of the angle).
   std::optional<cv::Point2d> coarse_shift;
@@ -458,17 +448,18 @@ PhaseCorrelationResult RegisterPhaseCorrelation(const cv::Mat& reference, const 
     const cv::Point2d position = peak_of_step(best).position;
     coarse_shift.emplace(position.x * (1 << coarse_level), position.y * (1 << coarse_level));
   }
-  Peak peak = EstimateTranslation(RotateAboutCentre(r, angle), n, coarse_level,
-                                  coarse ? &*coarse : nullptr, &full, options, coarse_shift);
+  cv::Mat rotated = RotateAboutCentre(r, angle);
+  Peak peak = EstimateTranslation(rotated, n, coarse_level, coarse ? &*coarse : nullptr, &full,
+                                  options, coarse_shift);
   for (int iteration = 0; iteration < options.split_rotation_iterations; ++iteration) {
     const cv::Point shift(static_cast<int>(std::lround(peak.position.x)),
                           static_cast<int>(std::lround(peak.position.y)));
-    const std::optional<RigidResidual> residual =
-        SplitOverlapResidual(RotateAboutCentre(r, angle), n, shift, options);
+    const std::optional<RigidResidual> residual = SplitOverlapResidual(rotated, n, shift, options);
     if (!residual || std::abs(residual->rotation_rad) > step) break;
     angle = std::clamp(angle + residual->rotation_rad, -steps * step, steps * step);
-    peak = EstimateTranslation(RotateAboutCentre(r, angle), n, coarse_level,
-                               coarse ? &*coarse : nullptr, &full, options, residual->shift);
+    rotated = RotateAboutCentre(r, angle);
+    peak = EstimateTranslation(rotated, n, coarse_level, coarse ? &*coarse : nullptr, &full,
+                               options, residual->shift);
   }
   result.shift = peak.position;
   result.rotation_rad = angle;

@@ -43,8 +43,7 @@ struct PhaseCorrelationOptions {
   // of -max_rotation_rad ... max_rotation_rad in steps of rotation_step_rad (003: whole degrees
   // over +-10 degrees), and the angle with the highest peak wins. The search runs on the coarse
   // pyramid level (see coarse_level_min_size_px); a parabola through the best angle's
-  // neighbours, then rotation_refinements parabolic fits at full resolution with spacings of
-  // step / 2, step / 4, ... give the sub-step angle.
+  // neighbours, then split_rotation_iterations corrections give the sub-step angle.
   bool estimate_rotation = false;
   double max_rotation_rad = 10.0 * std::numbers::pi / 180.0;
   // The search climbs from the step nearest the caller's prior to the nearest maximum of the peak
@@ -53,15 +52,14 @@ struct PhaseCorrelationOptions {
   bool rotation_from_prior = true;
   double rotation_search_min_peak = 0.2;
   double rotation_step_rad = 1.0 * std::numbers::pi / 180.0;
-  // Each refinement costs three correlations at full resolution; the split below measures the
-  // angle better for less. bench/dense_bench's BM_Accuracy/phase_rotation (30 pairs within +-8
-  // degrees), RMS angle error at 256x96 and 160x60: 0.076 and 0.27 degrees after the search
-  // alone; 0.020 and 0.126 with one refinement; 0.0094 and 0.027 with one split correction and
-  // no refinement; 0.0090 and 0.023 with two.
-  int rotation_refinements = 0;
-  // Then the angle is corrected this many times from the translations of the two halves of the
+  // The angle is corrected this many times from the translations of the two halves of the
   // overlap (their difference across the halves' distance is the rotation left), each followed
-  // by the translation again. Not in 003.
+  // by the translation again. Not in 003, whose parabolic refinement on the peak height is
+  // coarser and costs more: bench/dense_bench's BM_Accuracy/phase_rotation (30 pairs within +-8
+  // degrees), RMS angle error at 256x96 and 160x60: 0.076 and 0.27 degrees after the search
+  // alone; 0.020 and 0.126 with one parabolic refinement at full resolution (three
+  // correlations); 0.0094 and 0.027 with one split correction; 0.0090 and 0.023 with two
+  // (docs/dense_vo.md).
   int split_rotation_iterations = 1;
 };
 

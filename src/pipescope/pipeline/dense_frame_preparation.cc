@@ -93,7 +93,6 @@ DenseFramePreparation::DenseFramePreparation(const Camera& camera, const cv::Mat
           camera,
           {.stretch = stretch, .downsample = options.downsample, .interpolation = cv::INTER_CUBIC}),
       options_(options) {
-  RequireFactor(options.downsample);
   if (!gain_mask.empty() &&
       (gain_mask.cols != camera.Width() || gain_mask.rows != camera.Height())) {
     throw InputError("gain_mask: the mask is " + std::to_string(gain_mask.cols) + "x" +

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "pipescope/dense/dense_image.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
@@ -51,8 +52,7 @@ struct PairAtOffset {
 PairAtOffset CutToOverlap(const cv::Mat& reference, const cv::Mat& next, cv::Point2d predicted) {
   const cv::Point offset(static_cast<int>(std::lround(predicted.x)),
                          static_cast<int>(std::lround(predicted.y)));
-  const cv::Rect overlap =
-      cv::Rect(-offset, next.size()) & cv::Rect(cv::Point(0, 0), reference.size());
+  const cv::Rect overlap = OverlapAtShift(reference.size(), offset);
   if (offset == cv::Point(0, 0) || overlap.width < 16 || overlap.height < 16 ||
       overlap.area() < reference.size().area() / 4) {
     return {reference, next, cv::Point(0, 0)};
@@ -88,14 +88,11 @@ DenseMethod ParseDenseMethod(const std::string& name) {
 }
 
 double OverlapCorrelation(const cv::Mat& reference, const cv::Mat& next, cv::Point2d shift) {
-  const int tx = static_cast<int>(std::lround(shift.x));
-  const int ty = static_cast<int>(std::lround(shift.y));
-  // Reference pixels x with x + t inside `next`.
-  const cv::Rect reference_area =
-      cv::Rect(-tx, -ty, next.cols, next.rows) & cv::Rect(0, 0, reference.cols, reference.rows);
+  const cv::Point t(static_cast<int>(std::lround(shift.x)), static_cast<int>(std::lround(shift.y)));
+  const cv::Rect reference_area = OverlapAtShift(reference.size(), t);
   if (reference_area.area() < 4) return 0.0;
   const cv::Mat a = reference(reference_area);
-  const cv::Mat b = next(reference_area + cv::Point(tx, ty));
+  const cv::Mat b = next(reference_area + t);
   cv::Mat result;
   cv::matchTemplate(a, b, result, cv::TM_CCOEFF_NORMED);
   const double value = result.at<float>(0, 0);
