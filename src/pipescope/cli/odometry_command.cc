@@ -166,6 +166,9 @@ int RunOdometry(const OdometryFlags& flags) {
   long long still = 0;
   for (const DenseFrameRecord& frame : result.frames) still += frame.still ? 1 : 0;
   report.SetCount("pairs_still", still);
+  long long key_frames = 0;
+  for (const DenseFrameRecord& frame : result.frames) key_frames += frame.key_frame ? 1 : 0;
+  report.SetCount("key_frames", key_frames);
   report.AddTiming("odometry", result.registration_seconds);
   report.AddTiming("odometry_reading", result.reading_seconds);
   report.AddTiming("odometry_preparing", result.preparing_seconds);

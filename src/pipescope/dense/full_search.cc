@@ -245,4 +245,27 @@ FullSearchResult RegisterFullSearch(const cv::Mat& reference, const cv::Mat& nex
   return result;
 }
 
+cv::Point2d RoundingResidual(const FullSearchResult& result) {
+  const cv::Mat& costs = result.cost_surface;
+  const int column = result.shift.x + result.max_shift_x_px;
+  const int row = result.shift.y + result.max_shift_y_px;
+  if (costs.empty() || row < 0 || row >= costs.rows || column < 0 || column >= costs.cols) {
+    return {0.0, 0.0};
+  }
+  // The vertex of the parabola through (-1, before), (0, best), (1, after).
+  const auto vertex = [](double before, double best, double after) {
+    const double curvature = before - 2.0 * best + after;
+    if (!std::isfinite(before) || !std::isfinite(after) || !(curvature > 0.0)) return 0.0;
+    return std::clamp(0.5 * (before - after) / curvature, -0.5, 0.5);
+  };
+  const double best = costs.at<double>(row, column);
+  const auto at = [&](int r, int c) {
+    return r < 0 || r >= costs.rows || c < 0 || c >= costs.cols
+               ? std::numeric_limits<double>::infinity()
+               : costs.at<double>(r, c);
+  };
+  return {vertex(at(row, column - 1), best, at(row, column + 1)),
+          vertex(at(row - 1, column), best, at(row + 1, column))};
+}
+
 }  // namespace pipescope

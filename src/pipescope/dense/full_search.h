@@ -64,4 +64,11 @@ struct FullSearchResult {
 FullSearchResult RegisterFullSearch(const cv::Mat& reference, const cv::Mat& next,
                                     const FullSearchOptions& options = {});
 
+// Where the cost surface's minimum lies relative to the best integer shift, per axis, from the
+// parabola through the best cost and its two neighbours on that axis: in (-0.5, 0.5), 0 on an
+// axis where a neighbour is missing (window edge, not evaluated) or the parabola is not convex.
+// Not a registration: the full search stays integer (000 Algorithm 1); this says how much its
+// rounding threw away, which the odometry uses to place key frames (pipeline/dense_vo.h).
+cv::Point2d RoundingResidual(const FullSearchResult& result);
+
 }  // namespace pipescope

@@ -6,7 +6,6 @@
 #include <limits>
 
 #include "pipescope/dense/dense_image.h"
-#include "pipescope/dense/dense_image.h"
 #include "pipescope/dense/testing.h"
 #include "pipescope/util/testing.h"
 
@@ -113,6 +112,23 @@ TEST_P(FullSearchCostTest, SubPixelShiftRoundsToNearest) {
   EXPECT_EQ(RegisterFullSearch(pair.reference, pair.next, options).shift, cv::Point(6, -3));
 }
 
+TEST_P(FullSearchCostTest, RoundingResidualPointsToTheTrueShift) {
+  // The residual is a parabola's vertex, not an interpolation of the true shift: SAD's cost is
+  // V-shaped, so only its sign and rough size are asked of it.
+  FullSearchOptions options;
+  options.cost = GetParam();
+  const double tolerance = GetParam() == FullSearchCost::kSad ? 0.2 : 0.1;
+  for (const cv::Point2d shift : {cv::Point2d(6.3, -2.8), cv::Point2d(-3.1, 4.45),
+                                  cv::Point2d(2.0, 1.0), cv::Point2d(-7.4, -0.15)}) {
+    const RegistrationPair pair = MakeRegistrationPair({160, 120}, shift, 0.0, 1.0, 3);
+    const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
+    const cv::Point2d expected = shift - cv::Point2d(result.shift);
+    const cv::Point2d residual = RoundingResidual(result);
+    EXPECT_NEAR(residual.x, expected.x, tolerance) << shift;
+    EXPECT_NEAR(residual.y, expected.y, tolerance) << shift;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllCosts, FullSearchCostTest,
                          ::testing::Values(FullSearchCost::kSad, FullSearchCost::kSsd,
                                            FullSearchCost::kZncc),
@@ -141,6 +157,25 @@ TEST(FullSearch, ZnccIgnoresGainAndBias) {
   const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
   EXPECT_EQ(result.shift, cv::Point(-8, 5));
   EXPECT_LT(result.cost, -0.95);
+}
+
+TEST(FullSearch, RoundingResidualIsZeroWithoutBothNeighbours) {
+  FullSearchResult result;
+  result.max_shift_x_px = 1;
+  result.max_shift_y_px = 1;
+  const double inf = std::numeric_limits<double>::infinity();
+  // Best at the window's right edge (no right neighbour), in a column that is not convex.
+  result.cost_surface = (cv::Mat_<double>(3, 3) << 5, 4, 1.5,  //
+                         inf, 2, 1,                            //
+                         5, 6, 0.5);
+  result.shift = cv::Point(1, 0);
+  EXPECT_EQ(RoundingResidual(result), cv::Point2d(0.0, 0.0));
+  // At the centre: x from (4, 2, 1), vertex 0.5 (4 - 1) / 1 clamped to 0.5; y from (4, 2, 6).
+  result.cost_surface.at<double>(1, 0) = 4.0;
+  result.shift = cv::Point(0, 0);
+  const cv::Point2d residual = RoundingResidual(result);
+  EXPECT_DOUBLE_EQ(residual.x, 0.5);
+  EXPECT_DOUBLE_EQ(residual.y, 0.5 * (4.0 - 6.0) / (4.0 - 4.0 + 6.0));
 }
 
 TEST(FullSearch, ClampsWindowToImage) {

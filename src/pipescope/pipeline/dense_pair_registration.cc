@@ -28,6 +28,7 @@ PairMotion FullSearchMotion(FullSearchCost cost, const cv::Mat& reference, const
   const FullSearchResult result = RegisterFullSearch(reference, next, options);
   PairMotion motion;
   motion.shift = result.shift;
+  motion.rounding_residual = RoundingResidual(result);
   if (!std::isfinite(result.cost)) {
     motion.failure = "no shift in the search window has enough overlap";
   } else if (std::abs(result.shift.x) == result.max_shift_x_px ||

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct PairMotion {
   double correlation = 0.0;  // ZNCC of the overlap at the rounded shift
   bool still = false;        // dense-hybrid reported exactly no motion
   std::string failure;       // why the pair cannot be used; empty when it can
+  // The integer full searches (dense-sad, -ssd, -zncc) only: how far the cost's minimum lies
+  // from the reported whole-pixel shift (dense/full_search.h RoundingResidual).
+  std::optional<cv::Point2d> rounding_residual;
 };
 
 // Registers a pair of prepared frames with one of the planar methods (every method but

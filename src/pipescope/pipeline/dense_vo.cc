@@ -74,6 +74,21 @@ double KeyFrameShiftFraction(DenseMethod method) {
   return integer_search ? 0.4 : 0.1;
 }
 
+bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
+                   bool along_image_x, const DenseVoOptions& options) {
+  const auto beyond = [&](double fraction) {
+    return std::abs(motion.shift.x) >= fraction * frame.width ||
+           std::abs(motion.shift.y) >= fraction * frame.height;
+  };
+  if (!beyond(shift_fraction)) return false;
+  if (!motion.rounding_residual || shift_fraction <= 0.0 ||
+      beyond(shift_fraction + options.key_frame_wait_fraction)) {
+    return true;
+  }
+  const cv::Point2d& residual = *motion.rounding_residual;
+  return std::abs(along_image_x ? residual.x : residual.y) <= options.key_frame_max_rounding_px;
+}
+
 DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                          const DenseVoOptions& requested_options) {
   const double zeta = RequireReferenceScale(manifest);
@@ -236,11 +251,11 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       }
       content_offset = key->content_offset - motion.shift;
       new_key = !motion.failure.empty() ||
-                std::abs(motion.shift.x) >= key_shift_fraction * current.cols ||
-                std::abs(motion.shift.y) >= key_shift_fraction * current.rows;
+                KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x, options);
       previous_shift = motion.shift;
       previous_rotation = motion.rotation_rad;
     }
+    record.key_frame = new_key;
     if (new_key) {
       key = KeyFrame{current, pose, travel, roll, content_offset};
       previous_shift = cv::Point2d(0.0, 0.0);

@@ -41,6 +41,14 @@ struct DenseVoOptions {
   // 0.45, below where phase correlation's shifts wrap. 0: every frame is registered to the one
   // before, as 000.
   std::optional<double> key_frame_shift_fraction;
+  // The integer full searches (dense-sad, -ssd, -zncc) lose the fraction their rounding throws
+  // away at every key frame; it is their error. Past key_frame_shift_fraction, such a frame
+  // becomes the key frame only when its rounding residual along the pipe (dense/full_search.h)
+  // is at most key_frame_max_rounding_px, or once its shift has grown by key_frame_wait_fraction
+  // more of the frame. Beyond 000; 0.5 px (or a wait of 0) turns it off, and frame-to-frame
+  // registration (key_frame_shift_fraction 0) never waits.
+  double key_frame_max_rounding_px = 0.15;
+  double key_frame_wait_fraction = 0.1;
   // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
   // line so that every line of the band moves at the same rate along the pipe, and that rate
   // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
@@ -75,6 +83,7 @@ struct DenseFrameRecord {
   double rotation_rad = 0.0;  // phase only
   double correlation = 0.0;   // overlap ZNCC after registration
   bool still = false;
+  bool key_frame = false;  // later frames were registered to this one
   // Why the registration failed and the motion was predicted at constant velocity; empty when
   // it did not (and for the first frame).
   std::string failure;
@@ -109,6 +118,13 @@ struct DenseVoResult {
 // the sub-pixel methods, whose precision falls with the overlap (steel-16in phase: 3.0 % at 0.4,
 // dense-hybrid 0.023 % against 0.003 %).
 double KeyFrameShiftFraction(DenseMethod method);
+
+// Whether a frame registered to the key frame without failure, with `motion` from it, becomes
+// the next key frame: its shift has reached shift_fraction of `frame` along either axis and,
+// for an integer search, its rounding residual along the pipe is small enough or the wait is over
+// (DenseVoOptions' key_frame_max_rounding_px and key_frame_wait_fraction).
+bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
+                   bool along_image_x, const DenseVoOptions& options);
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is
 // required, and the pipe radius for dense-unrolled; the dataset's gain mask is applied when it

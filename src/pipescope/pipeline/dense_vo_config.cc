@@ -26,6 +26,8 @@ const std::set<std::string> kKeys = {"downsample",
                                      "registration_band",
                                      "foreshortening_correction",
                                      "key_frame_shift_fraction",
+                                     "key_frame_max_rounding_px",
+                                     "key_frame_wait_fraction",
                                      "presmooth_sigma_px"};
 
 void RequireRange(const std::filesystem::path& file, const std::string& key, double value,
@@ -88,6 +90,14 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "key_frame_shift_fraction", *value, 0.0, 0.45);
     options->key_frame_shift_fraction = *value;
   }
+  if (auto value = OptionalYamlValue<double>(root, "key_frame_max_rounding_px", path)) {
+    RequireRange(path, "key_frame_max_rounding_px", *value, 0.0, 0.5);
+    options->key_frame_max_rounding_px = *value;
+  }
+  if (auto value = OptionalYamlValue<double>(root, "key_frame_wait_fraction", path)) {
+    RequireRange(path, "key_frame_wait_fraction", *value, 0.0, 0.2);
+    options->key_frame_wait_fraction = *value;
+  }
   if (auto value = OptionalYamlValue<bool>(root, "foreshortening_correction", path)) {
     options->foreshortening_correction = *value;
   }
@@ -123,6 +133,8 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
       {"foreshortening_correction", options.foreshortening_correction},
       {"key_frame_shift_fraction",
        options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method))},
+      {"key_frame_max_rounding_px", options.key_frame_max_rounding_px},
+      {"key_frame_wait_fraction", options.key_frame_wait_fraction},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
       {"mosaic", options.build_mosaic},
       {"mosaic_spacing_px", options.mosaic_spacing_px},
