@@ -216,7 +216,9 @@ FullSearchResult RegisterFullSearch(const cv::Mat& reference, const cv::Mat& nex
   }
 
   // Coarse to fine: the whole window on the coarsest level, then a small window around twice
-  // the coarser estimate on each finer level.
+  // the coarser estimate on each finer level, and one around zero, so that a false minimum of
+  // the coarse level (whose images can be a few dozen pixels across) cannot hide the shift the
+  // caller expects; zero is the prediction when the caller centres the pair on it.
   const std::vector<cv::Mat> r_pyramid = BuildGaussianPyramid(r, levels);
   const std::vector<cv::Mat> n_pyramid = BuildGaussianPyramid(n, levels);
   const int radius = std::max(1, options.pyramid_search_radius_px);
@@ -225,21 +227,38 @@ FullSearchResult RegisterFullSearch(const cv::Mat& reference, const cv::Mat& nex
     const cv::Mat& r_level = r_pyramid[level];
     const int max_x = std::min(CeilDiv(result.max_shift_x_px, 1 << level), r_level.cols - 1);
     const int max_y = std::min(CeilDiv(result.max_shift_y_px, 1 << level), r_level.rows - 1);
-    ShiftWindow window{-max_x, max_x, -max_y, max_y};
-    if (level != levels - 1) {
-      window = {std::max(-max_x, 2 * shift.x - radius), std::min(max_x, 2 * shift.x + radius),
-                std::max(-max_y, 2 * shift.y - radius), std::min(max_y, 2 * shift.y + radius)};
+    std::vector<ShiftWindow> windows;
+    if (level == levels - 1) {
+      windows.push_back({-max_x, max_x, -max_y, max_y});
+    } else {
+      const auto around = [&](cv::Point centre) {
+        return ShiftWindow{std::max(-max_x, centre.x - radius), std::min(max_x, centre.x + radius),
+                           std::max(-max_y, centre.y - radius), std::min(max_y, centre.y + radius)};
+      };
+      windows.push_back(around(2 * shift));
+      if (std::abs(2 * shift.x) > 2 * radius || std::abs(2 * shift.y) > 2 * radius) {
+        windows.push_back(around({0, 0}));  // disjoint from the first
+      }
     }
-    const cv::Mat costs =
-        CostWindow(r_level, n_pyramid[level], options.cost, window, options.min_overlap_fraction);
-    double best_cost;
-    shift = BestShift(costs, window, &best_cost);
-    if (level == 0) {
-      costs.copyTo(result.cost_surface(cv::Rect(window.x0 + result.max_shift_x_px,
-                                                window.y0 + result.max_shift_y_px, window.Width(),
-                                                window.Height())));
-      result.cost = best_cost;
+    double best_cost = kInfinity;
+    cv::Point best(0, 0);
+    for (const ShiftWindow& window : windows) {
+      const cv::Mat costs =
+          CostWindow(r_level, n_pyramid[level], options.cost, window, options.min_overlap_fraction);
+      double cost;
+      const cv::Point candidate = BestShift(costs, window, &cost);
+      if (cost < best_cost || (cost == best_cost && candidate.dot(candidate) < best.dot(best))) {
+        best_cost = cost;
+        best = candidate;
+      }
+      if (level == 0) {
+        costs.copyTo(result.cost_surface(cv::Rect(window.x0 + result.max_shift_x_px,
+                                                  window.y0 + result.max_shift_y_px, window.Width(),
+                                                  window.Height())));
+      }
     }
+    shift = best;
+    if (level == 0) result.cost = best_cost;
   }
   result.shift = shift;
   return result;

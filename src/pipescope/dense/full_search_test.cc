@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 
 #include "pipescope/dense/dense_image.h"
 #include "pipescope/dense/testing.h"
@@ -101,8 +102,39 @@ TEST_P(FullSearchCostTest, CoarseToFineFindsLargeShift) {
   const RegistrationPair pair = MakeRegistrationPair({256, 192}, {-37.0, 9.0}, 0.0, 2.0, 5);
   const FullSearchResult result = RegisterFullSearch(pair.reference, pair.next, options);
   EXPECT_EQ(result.shift, cv::Point(-37, 9));
-  // Only the last level's small window was evaluated at full resolution.
-  EXPECT_EQ(cv::countNonZero(result.cost_surface < std::numeric_limits<double>::infinity()), 25);
+  // Only the last level's two small windows, around the coarse estimate and around zero, were
+  // evaluated at full resolution.
+  const cv::Mat evaluated = result.cost_surface < std::numeric_limits<double>::infinity();
+  EXPECT_EQ(cv::countNonZero(evaluated), 50);
+  EXPECT_EQ(cv::countNonZero(evaluated(cv::Rect(48 - 2, 16 - 2, 5, 5))), 25);
+}
+
+// A false minimum on the coarse levels must not hide a better shift near zero at full
+// resolution. Fine texture F (pixel noise, averaged away by the pyramid) moves 1 px while a
+// smooth pattern L (a lighting-like field that survives it) moves 24 px: the coarse levels match
+// L, the finest level matches F, whose mismatch costs more.
+TEST_P(FullSearchCostTest, CoarseToFineKeepsZeroAsACandidate) {
+  const int width = 192, height = 64, far = 24;
+  cv::Mat fine(height, width + far, CV_32F), smooth(height, width + far, CV_32F);
+  cv::RNG rng(7);
+  rng.fill(fine, cv::RNG::NORMAL, 0.0, 40.0);
+  rng.fill(smooth, cv::RNG::NORMAL, 0.0, 400.0);
+  cv::GaussianBlur(smooth, smooth, cv::Size(), 6.0);
+  // reference(x) = F(x + 24) + L(x + 24), next(x) = F(x + 23) + L(x): next(x + 1) matches F,
+  // next(x + 24) matches L.
+  const cv::Mat reference =
+      fine(cv::Rect(far, 0, width, height)) + smooth(cv::Rect(far, 0, width, height));
+  const cv::Mat next =
+      fine(cv::Rect(far - 1, 0, width, height)) + smooth(cv::Rect(0, 0, width, height));
+  FullSearchOptions options;
+  options.cost = GetParam();
+  options.max_shift_x_px = 40;
+  options.max_shift_y_px = 4;
+  // Exhaustive search at full resolution: the oracle that 1 px is the better match there.
+  options.pyramid_levels = 0;
+  ASSERT_EQ(RegisterFullSearch(reference, next, options).shift, cv::Point(1, 0));
+  options.pyramid_levels = 2;
+  EXPECT_EQ(RegisterFullSearch(reference, next, options).shift, cv::Point(1, 0));
 }
 
 TEST_P(FullSearchCostTest, SubPixelShiftRoundsToNearest) {
