@@ -93,8 +93,12 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   report.SetCount("refinements", result.refinements);
   report.SetCount("window_adjustments", result.window_adjustments);
   report.AddTiming("odometry", result.odometry_seconds);
+  report.AddTiming("odometry_cpu", result.odometry_cpu_seconds);
   for (const auto& [stage, seconds] : result.stage_seconds) {
     report.AddTiming("odometry_" + stage, seconds);
+  }
+  for (const auto& [stage, seconds] : result.stage_cpu_seconds) {
+    report.AddTiming("odometry_" + stage + "_cpu", seconds);
   }
   report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;

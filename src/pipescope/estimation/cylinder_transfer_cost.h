@@ -92,4 +92,29 @@ class CylinderGaugeCost {
   double weight_;
 };
 
+// A smoothness prior between consecutive key frames (beyond 000): the robot drifts across the
+// pipe slowly (millimetres over metres), while the window adjustment sees the position across
+// the pipe, and with it the wall distance and the scale, only through the wall's slight
+// curvature. Residuals (C_b - C_a)_{x,y} / sigma: each step of the cross-section position costs
+// as much as one pixel of reprojection error when it is sigma long.
+class CrossSectionSmoothnessCost {
+ public:
+  explicit CrossSectionSmoothnessCost(double sigma_m) : sigma_m_(sigma_m) {}
+
+  template <typename T>
+  bool operator()(const T* p_a, const T* p_b, T* residual) const {
+    residual[0] = (p_b[0] - p_a[0]) / sigma_m_;
+    residual[1] = (p_b[1] - p_a[1]) / sigma_m_;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(double sigma_m) {
+    return new ceres::AutoDiffCostFunction<CrossSectionSmoothnessCost, 2, 3, 3>(
+        new CrossSectionSmoothnessCost(sigma_m));
+  }
+
+ private:
+  double sigma_m_;
+};
+
 }  // namespace pipescope

@@ -48,6 +48,18 @@ WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
     }
   }
   if (summary.residuals == 0) return summary;
+  if (options.cross_section_step_sigma_m > 0.0) {
+    for (std::size_t b = 1; b < count; ++b) {
+      if ((*key_frames)[b - 1].fixed && (*key_frames)[b].fixed) continue;
+      if (!problem.HasParameterBlock(positions[b - 1].data()) ||
+          !problem.HasParameterBlock(positions[b].data())) {
+        continue;
+      }
+      problem.AddResidualBlock(
+          CrossSectionSmoothnessCost::Create(options.cross_section_step_sigma_m), nullptr,
+          positions[b - 1].data(), positions[b].data());
+    }
+  }
   for (std::size_t a = 0; a < count; ++a) {
     if (!problem.HasParameterBlock(rotations[a].data())) continue;
     problem.SetManifold(rotations[a].data(), new ceres::EigenQuaternionManifold);

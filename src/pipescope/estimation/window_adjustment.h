@@ -23,6 +23,8 @@ struct WindowAdjustmentOptions {
   // which a narrow lens barely sees; left free, it (and with it the scale) follows the
   // keypoints' localisation bias.
   bool hold_first_cross_section = false;
+  // Sigma (metres) of CrossSectionSmoothnessCost between consecutive key frames; 0: none.
+  double cross_section_step_sigma_m = 0.0;
 };
 
 struct WindowKeyFrame {

@@ -9,6 +9,20 @@ namespace {
 
 constexpr double kRadius = 0.07666;
 
+// 60 wall points seen from each pose (seeds seed, seed + 1, ...).
+std::vector<Eigen::Vector3d> PointsSeenFromEach(const Camera& camera,
+                                                const std::vector<Eigen::Isometry3d>& poses,
+                                                unsigned seed) {
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t a = 0; a < poses.size(); ++a) {
+    for (const Eigen::Vector3d& p :
+         WallPointsSeenFrom(camera, poses[a], kRadius, 60, seed + static_cast<unsigned>(a))) {
+      points.push_back(p);
+    }
+  }
+  return points;
+}
+
 // Eight key frames with pitch and yaw wobble and drift across the pipe; the first two are held
 // at the truth, the others start at the 1-DOF guess (start rotation, on the first one's line)
 // and must come back to the truth.
@@ -22,12 +36,7 @@ TEST(AdjustWindow, RecoversWobblingPosesThroughTheCylinder) {
                     pose.linear();
     truth.push_back(pose);
   }
-  std::vector<Eigen::Vector3d> points;
-  for (int a = 0; a < 8; ++a) {
-    for (const Eigen::Vector3d& p : WallPointsSeenFrom(camera, truth[a], kRadius, 60, 40 + a)) {
-      points.push_back(p);
-    }
-  }
+  const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 40);
   std::vector<WindowKeyFrame> window(8);
   for (int a = 0; a < 8; ++a) {
     window[a].fixed = a < 2;
@@ -56,12 +65,7 @@ TEST(AdjustWindow, HoldsTheFirstKeyFramesCrossSectionWhenAsked) {
   const Camera camera = SteelSixInchCamera();
   std::vector<Eigen::Isometry3d> truth;
   for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001 - 0.0002 * a, 0.01 * a}));
-  std::vector<Eigen::Vector3d> points;
-  for (int a = 0; a < 6; ++a) {
-    for (const Eigen::Vector3d& p : WallPointsSeenFrom(camera, truth[a], kRadius, 60, 70 + a)) {
-      points.push_back(p);
-    }
-  }
+  const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 70);
   std::vector<WindowKeyFrame> window(6);
   for (int a = 0; a < 6; ++a) {
     window[a].pose = truth[a];
@@ -79,6 +83,36 @@ TEST(AdjustWindow, HoldsTheFirstKeyFramesCrossSectionWhenAsked) {
   options.hold_first_cross_section = false;
   AdjustWindow(camera, kRadius, options, &free_window);
   EXPECT_LT((free_window[0].pose.translation() - truth[0].translation()).norm(), 1e-5);
+}
+
+// The cross-section smoothness prior: key frames whose true positions step 0.2 mm across the pipe
+// each, all seen exactly. With a loose prior the adjustment keeps the truth (the prior does not
+// bias an exact solution beyond its weight); with a stiff one the steps shrink towards zero,
+// which only the prior can do (the reprojections alone are exact at the truth).
+TEST(AdjustWindow, CrossSectionPriorPullsConsecutiveKeyFramesTogether) {
+  const Camera camera = SteelSixInchCamera();
+  std::vector<Eigen::Isometry3d> truth;
+  for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0002 * a, 0.0, 0.01 * a}));
+  const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 90);
+  std::vector<WindowKeyFrame> window(6);
+  for (int a = 0; a < 6; ++a) {
+    window[a].pose = truth[a];
+    window[a].fixed = a == 0;
+    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
+  }
+  auto last_step_across = [](const std::vector<WindowKeyFrame>& adjusted) {
+    return (adjusted[5].pose.translation() - adjusted[4].pose.translation()).head<2>().norm();
+  };
+  WindowAdjustmentOptions options;
+  options.max_iterations = 50;
+  options.cross_section_step_sigma_m = 1.0;
+  std::vector<WindowKeyFrame> loose = window;
+  AdjustWindow(camera, kRadius, options, &loose);
+  EXPECT_NEAR(last_step_across(loose), 0.0002, 1e-6);
+  options.cross_section_step_sigma_m = 1e-8;
+  std::vector<WindowKeyFrame> stiff = window;
+  AdjustWindow(camera, kRadius, options, &stiff);
+  EXPECT_LT(last_step_across(stiff), 0.00002);
 }
 
 }  // namespace

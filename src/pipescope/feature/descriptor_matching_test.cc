@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <numeric>
+#include <opencv2/features2d.hpp>
 #include <random>
 
 #include "pipescope/feature/key_frame_selection.h"
@@ -37,6 +38,43 @@ TEST(MatchDescriptors, RecoversAPermutationAndRejectsAmbiguousRows) {
   }
   EXPECT_EQ(correct, static_cast<int>(matches.size()));
   EXPECT_GE(correct, 196);
+}
+
+TEST(MatchDescriptors, EqualsOpenCvBruteForceRatioAndMutualCheck) {
+  // Oracle: cv::BFMatcher's two nearest neighbours each way. `second` holds noisy copies of
+  // rows of `first`, from nearly exact to lost in the noise, and copies of a few rows twice (so
+  // that rows fail the ratio test and the mutual check for both reasons).
+  std::mt19937 random(5);
+  std::normal_distribution<float> noise(0.f, 1.f);
+  std::uniform_real_distribution<float> spread(0.5f, 12.f);
+  std::uniform_int_distribution<int> row(0, 299);
+  cv::Mat first(300, 128, CV_32F), second(280, 128, CV_32F);
+  cv::randn(first, 0.0, 10.0);
+  for (int r = 0; r < second.rows; ++r) {
+    const int source = r < 240 ? row(random) : r - 240;
+    const float sigma = spread(random);
+    for (int k = 0; k < 128; ++k) {
+      second.at<float>(r, k) = first.at<float>(source, k) + sigma * noise(random);
+    }
+  }
+  const DescriptorMatchingOptions options;
+  cv::BFMatcher matcher(cv::NORM_L2);
+  std::vector<std::vector<cv::DMatch>> forward, backward;
+  matcher.knnMatch(first, second, forward, 2);
+  matcher.knnMatch(second, first, backward, 1);
+  std::vector<std::pair<int, int>> expected;
+  for (const std::vector<cv::DMatch>& best : forward) {
+    if (!(best[0].distance < options.max_ratio * best[1].distance)) continue;
+    if (backward[best[0].trainIdx][0].trainIdx != best[0].queryIdx) continue;
+    expected.emplace_back(best[0].queryIdx, best[0].trainIdx);
+  }
+  std::vector<std::pair<int, int>> ours;
+  for (const IndexMatch& m : MatchDescriptors(first, second, options)) {
+    ours.emplace_back(m.first, m.second);
+  }
+  ASSERT_GT(expected.size(), 30u);
+  ASSERT_LT(expected.size(), 250u);
+  EXPECT_EQ(ours, expected);
 }
 
 TEST(KeyFrameSelection, EndsOnFewCorrespondencesOrLargeFlow) {

@@ -29,8 +29,8 @@ void DerivativeOfGaussianKernels(double sigma, cv::Mat* smooth, cv::Mat* derivat
 }  // namespace
 
 cv::Mat HarrisResponse(const cv::Mat& grey, const RegionHarrisOptions& options) {
-  cv::Mat image;
-  grey.convertTo(image, CV_32F);
+  cv::Mat image = grey;
+  if (grey.depth() != CV_32F) grey.convertTo(image, CV_32F);
   if (options.box_window_px > 0) {
     cv::Mat response;
     cv::cornerHarris(image, response, options.box_window_px, options.sobel_aperture, options.k);
@@ -41,16 +41,40 @@ cv::Mat HarrisResponse(const cv::Mat& grey, const RegionHarrisOptions& options) 
   cv::Mat ix, iy;
   cv::sepFilter2D(image, ix, CV_32F, derivative, smooth, cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
   cv::sepFilter2D(image, iy, CV_32F, smooth, derivative, cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
-  // Eq. 30 with the Gaussian window G(sigma_W).
-  cv::Mat ixx = ix.mul(ix), iyy = iy.mul(iy), ixy = ix.mul(iy);
+  // Eq. 30 with the Gaussian window G(sigma_W): the three gradient products in one pass, each
+  // blurred in place, then eq. 28-29 in one pass (Mat expressions would allocate a temporary
+  // image per operator).
+  cv::Mat ixx(image.size(), CV_32F), iyy(image.size(), CV_32F), ixy(image.size(), CV_32F);
+  for (int y = 0; y < image.rows; ++y) {
+    const float* gx = ix.ptr<float>(y);
+    const float* gy = iy.ptr<float>(y);
+    float* xx = ixx.ptr<float>(y);
+    float* yy = iyy.ptr<float>(y);
+    float* xy = ixy.ptr<float>(y);
+    for (int x = 0; x < image.cols; ++x) {
+      xx[x] = gx[x] * gx[x];
+      yy[x] = gy[x] * gy[x];
+      xy[x] = gx[x] * gy[x];
+    }
+  }
   // Truncated at 3 sigma (OpenCV's default for float images is 4 sigma, a third more taps).
   const int half = std::max(1, static_cast<int>(std::ceil(3.0 * options.sigma_window_px)));
   const cv::Size window(2 * half + 1, 2 * half + 1);
   cv::GaussianBlur(ixx, ixx, window, options.sigma_window_px, 0, cv::BORDER_REFLECT);
   cv::GaussianBlur(iyy, iyy, window, options.sigma_window_px, 0, cv::BORDER_REFLECT);
   cv::GaussianBlur(ixy, ixy, window, options.sigma_window_px, 0, cv::BORDER_REFLECT);
-  cv::Mat trace = ixx + iyy;
-  cv::Mat response = ixx.mul(iyy) - ixy.mul(ixy) - options.k * trace.mul(trace);
+  const float k = static_cast<float>(options.k);
+  cv::Mat response = ix;  // reused: the derivatives are no longer needed
+  for (int y = 0; y < image.rows; ++y) {
+    const float* xx = ixx.ptr<float>(y);
+    const float* yy = iyy.ptr<float>(y);
+    const float* xy = ixy.ptr<float>(y);
+    float* r = response.ptr<float>(y);
+    for (int x = 0; x < image.cols; ++x) {
+      const float trace = xx[x] + yy[x];
+      r[x] = xx[x] * yy[x] - xy[x] * xy[x] - k * trace * trace;
+    }
+  }
   return response;
 }
 

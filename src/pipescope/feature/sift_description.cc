@@ -17,9 +17,10 @@ cv::Mat DescribeWithSift(const cv::Mat& grey, const std::vector<Keypoint>& keypo
     cv_keypoints.emplace_back(keypoint.position, options.keypoint_size_px, 0.f, keypoint.response,
                               0);
   }
-  // One layer per octave: OpenCV then blurs 4 images instead of 6 for the one octave it builds;
-  // the descriptors come from layer 0 either way.
-  static thread_local cv::Ptr<cv::SIFT> sift = cv::SIFT::create(0, 1);
+  // OpenCV's default 3 layers per octave: it blurs the one octave it builds 5 times with small
+  // kernels (87 taps in all); one layer would blur it 3 times with sigma 2.8, 5.5 and 11 (157
+  // taps). The descriptors come from layer 0 (the base image) either way.
+  static thread_local cv::Ptr<cv::SIFT> sift = cv::SIFT::create();
   cv::Mat descriptors;
   const std::size_t requested = cv_keypoints.size();
   sift->compute(grey8, cv_keypoints, descriptors);

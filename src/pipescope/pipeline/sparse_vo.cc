@@ -26,6 +26,25 @@ Eigen::Isometry3d MovedAlongAxis(const Eigen::Isometry3d& pose, double delta_h) 
   return moved;
 }
 
+// Wall and CPU time of one stage, for run.json's timings (StageTimes::Add).
+struct StageClock {
+  Timer wall;
+  ThreadCpuTimer cpu;
+};
+
+// The per-stage totals: wall seconds and CPU seconds of the thread that ran each stage.
+struct StageTimes {
+  std::map<std::string, double>* wall;
+  std::map<std::string, double>* cpu;
+  void Add(const std::string& stage, double wall_seconds, double cpu_seconds) const {
+    (*wall)[stage] += wall_seconds;
+    (*cpu)[stage] += cpu_seconds;
+  }
+  void Add(const std::string& stage, const StageClock& clock) const {
+    Add(stage, clock.wall.ElapsedSeconds(), clock.cpu.ElapsedSeconds());
+  }
+};
+
 // Keypoints of one frame (000 §5.1): positions in the distorted image, SIFT descriptors, bearings.
 struct FrameFeatures {
   std::vector<Keypoint> keypoints;
@@ -63,26 +82,29 @@ struct LocalisedFrame {
 class SparseOdometer {
  public:
   SparseOdometer(const Camera& camera, double radius_m, const Eigen::Isometry3d& start,
-                 const SparseVoOptions& options, std::map<std::string, double>* stage_seconds)
+                 const SparseVoOptions& options, StageTimes stage_times)
       : camera_(camera),
         radius_m_(radius_m),
         start_(start),
         options_(options),
-        stage_seconds_(stage_seconds) {
+        stage_times_(stage_times) {
     options_.ransac.focal_length_px = CentralFocalLengthPx(camera);
     const std::optional<Eigen::Vector3d> facing =
         WallPointOfBearing(start, Eigen::Vector3d::UnitZ(), radius_m);
     phi_reference_rad_ = facing ? std::atan2(facing->y(), facing->x()) : M_PI / 2.0;
   }
 
-  // Thread-safe (runs on the reader thread); `seconds` gets the Harris and SIFT times.
-  FrameFeatures Extract(const cv::Mat& corrected, double seconds[2]) const {
-    const Timer timer;
+  // Thread-safe (runs on the reader thread); `wall` and `cpu` get the Harris and SIFT times.
+  FrameFeatures Extract(const cv::Mat& corrected, double wall[2], double cpu[2]) const {
     FrameFeatures features;
+    const StageClock harris;
     features.keypoints = DetectRegionHarris(corrected, options_.harris);
-    seconds[0] = timer.ElapsedSeconds();
+    wall[0] = harris.wall.ElapsedSeconds();
+    cpu[0] = harris.cpu.ElapsedSeconds();
+    const StageClock sift;
     features.descriptors = DescribeWithSift(corrected, features.keypoints, options_.sift);
-    seconds[1] = timer.ElapsedSeconds() - seconds[0];
+    wall[1] = sift.wall.ElapsedSeconds();
+    cpu[1] = sift.cpu.ElapsedSeconds();
     features.bearings.resize(features.keypoints.size());
     features.has_bearing.resize(features.keypoints.size());
     for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
@@ -93,7 +115,7 @@ class SparseOdometer {
   }
 
   PairMatches Match(const FrameFeatures& key, const FrameFeatures& frame) const {
-    const Timer timer;
+    const StageClock matching;
     PairMatches result;
     std::vector<IndexMatch> candidates;
     for (const IndexMatch& match :
@@ -108,6 +130,8 @@ class SparseOdometer {
       first.push_back(key.bearings[match.first]);
       second.push_back(frame.bearings[match.second]);
     }
+    stage_times_.Add("matching", matching);
+    const StageClock ransac;
     std::vector<bool> inlier;
     FivePointRansacInliers(first, second, options_.ransac, &inlier);
     std::vector<cv::Point2f> from, to;
@@ -118,7 +142,7 @@ class SparseOdometer {
       to.push_back(frame.keypoints[candidates[i].second].position);
     }
     result.median_flow_px = MedianFlow(from, to);
-    (*stage_seconds_)["matching"] += timer.ElapsedSeconds();
+    stage_times_.Add("ransac", ransac);
     return result;
   }
 
@@ -222,7 +246,7 @@ class SparseOdometer {
 
   // 000 §5.3.2: C_X, C_Y and the delta_h of the first key frames by reprojection (eq. 45-49).
   void OptimiseStart(SparseVoResult* result) {
-    const Timer timer;
+    const StageClock clock;
     std::vector<std::vector<KeyFrameKeypoint>> keypoints(key_frames_.size());
     std::vector<double> delta_h(key_frames_.size());
     const Eigen::Isometry3d& first = key_frames_.front().pose;
@@ -245,13 +269,13 @@ class SparseOdometer {
                                                first.translation().z() + optimised.delta_h[a]);
     }
     for (KeyFrame& key : key_frames_) AddContributions(&key);
-    (*stage_seconds_)["initial_position"] += timer.ElapsedSeconds();
+    stage_times_.Add("initial_position", clock);
   }
 
   // 000 §5.3.3: each of the last 2N key frames in turn, its S(g) entries taken out, refined with
   // six degrees of freedom, and put back; `refine_passes` times.
   void RefineWindow() {
-    const Timer timer;
+    const StageClock clock;
     const std::size_t count = key_frames_.size();
     const std::size_t window = 2 * static_cast<std::size_t>(options_.refine_every);
     const std::size_t begin = count > window ? count - window : 0;
@@ -271,11 +295,11 @@ class SparseOdometer {
         AddContributions(&key);
       }
     }
-    (*stage_seconds_)["refinement"] += timer.ElapsedSeconds();
+    stage_times_.Add("refinement", clock);
   }
 
   void CorrectScale(SparseVoResult* result) {
-    const Timer timer;
+    const StageClock clock;
     std::vector<WindowKeyFrame> all;
     for (const KeyFrame& key : key_frames_) {
       WindowKeyFrame entry;
@@ -287,7 +311,7 @@ class SparseOdometer {
     for (KeyFrame& key : key_frames_) RemoveContributions(&key);
     for (std::size_t k = 0; k < key_frames_.size(); ++k) key_frames_[k].pose = all[k].pose;
     for (KeyFrame& key : key_frames_) AddContributions(&key);
-    (*stage_seconds_)["global_scale"] += timer.ElapsedSeconds();
+    stage_times_.Add("global_scale", clock);
   }
 
   // The window adjustment of key frames [begin, end), the first `fixed` of them held.
@@ -302,9 +326,9 @@ class SparseOdometer {
       entry.keypoints = TrackedKeypoints(key);
       window.push_back(std::move(entry));
     }
-    const Timer timer;
+    const StageClock clock;
     AdjustWindow(camera_, radius_m_, options_.window, &window);
-    (*stage_seconds_)["window_adjustment"] += timer.ElapsedSeconds();
+    stage_times_.Add("window_adjustment", clock);
     for (std::size_t k = begin; k < end; ++k) {
       if (window[k - begin].fixed) continue;
       RemoveContributions(&key_frames_[k]);
@@ -393,7 +417,7 @@ class SparseOdometer {
   double phi_reference_rad_ = 0.0;
   std::vector<KeyFrame> key_frames_;
   std::vector<TrackStatistics> statistics_;  // S(g), indexed by g
-  std::map<std::string, double>* stage_seconds_;
+  StageTimes stage_times_;
 };
 
 // The unrolled appearance map (000 Fig. 15/17) from the frames at their estimated poses.
@@ -469,7 +493,8 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   }
 
   SparseVoResult result;
-  SparseOdometer odometer(camera, radius, start, effective, &result.stage_seconds);
+  SparseOdometer odometer(camera, radius, start, effective,
+                          {&result.stage_seconds, &result.stage_cpu_seconds});
   std::vector<LocalisedFrame> localised;
   // The newest localised frame since the key frame: the next key frame when the span ends.
   struct Candidate {
@@ -485,16 +510,18 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
   ProgressBar progress("sparse", source->FrameCount());
   Timer timer;
+  const ProcessCpuTimer cpu_timer;
   // Reading, gain correction and feature extraction of the next frame run on a second thread
   // while this one matches and estimates (options.pipelined), one frame ahead.
   struct Loaded {
     Frame frame;
     double saturated = 0.0;
     FrameFeatures features;
-    double seconds[3] = {0.0, 0.0, 0.0};  // reading, Harris, SIFT
+    double wall[3] = {0.0, 0.0, 0.0};  // reading, Harris, SIFT
+    double cpu[3] = {0.0, 0.0, 0.0};
   };
   auto load = [&]() -> std::optional<Loaded> {
-    const Timer read_timer;
+    const StageClock read;
     std::optional<Frame> frame = source->Next();
     if (!frame) return std::nullopt;
     Loaded loaded;
@@ -502,8 +529,9 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     if (loaded.saturated <= options.max_saturated_fraction) {
       const cv::Mat corrected =
           gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask);
-      loaded.seconds[0] = read_timer.ElapsedSeconds();
-      loaded.features = odometer.Extract(corrected, loaded.seconds + 1);
+      loaded.wall[0] = read.wall.ElapsedSeconds();
+      loaded.cpu[0] = read.cpu.ElapsedSeconds();
+      loaded.features = odometer.Extract(corrected, loaded.wall + 1, loaded.cpu + 1);
     }
     loaded.frame = std::move(*frame);
     return loaded;
@@ -514,9 +542,10 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     std::optional<Loaded> loaded = next.get();
     if (!loaded) break;
     next = std::async(policy, load);
-    result.stage_seconds["read"] += loaded->seconds[0];
-    result.stage_seconds["features_harris"] += loaded->seconds[1];
-    result.stage_seconds["features_sift"] += loaded->seconds[2];
+    const StageTimes times{&result.stage_seconds, &result.stage_cpu_seconds};
+    times.Add("read", loaded->wall[0], loaded->cpu[0]);
+    times.Add("features_harris", loaded->wall[1], loaded->cpu[1]);
+    times.Add("features_sift", loaded->wall[2], loaded->cpu[2]);
     const Frame* frame = &loaded->frame;
     progress.Update(frame->index + 1);
     SparseFrameRecord record;
@@ -594,6 +623,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   }
   odometer.Finish(&localised, &result);
   result.odometry_seconds = timer.ElapsedSeconds();
+  result.odometry_cpu_seconds = cpu_timer.ElapsedSeconds();
   if (options.build_mosaic) {
     double pixel_m = options.mosaic_pixel_m;
     if (!(pixel_m > 0.0)) pixel_m = wall_distance / CentralFocalLengthPx(camera);

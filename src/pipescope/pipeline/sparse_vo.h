@@ -118,8 +118,12 @@ struct SparseVoResult {
   double odometry_seconds = 0.0;
   // Where the odometry time went: "read" (decoding, gain correction), "features_harris",
   // "features_sift" (on the reader thread when pipelined), "matching"
-  // (descriptors, RANSAC), "initial_position", "window_adjustment", "refinement".
+  // (descriptors), "ransac", "initial_position", "window_adjustment", "refinement"; wall
+  // seconds, and CPU seconds of the thread that ran the stage (OpenCV's worker threads not
+  // included). odometry_cpu_seconds: CPU seconds of the whole process over the odometry.
   std::map<std::string, double> stage_seconds;
+  std::map<std::string, double> stage_cpu_seconds;
+  double odometry_cpu_seconds = 0.0;
 };
 
 // Runs sparse VO over the dataset's frames; needs pipe.inner_radius_m. The dataset's gain mask

@@ -43,6 +43,7 @@ const std::set<std::string> kKeys = {"grid_rows",
                                      "window_every",
                                      "window_fixed",
                                      "window_iterations",
+                                     "window_cross_section_sigma_m",
                                      "pipelined",
                                      "global_scale"};
 
@@ -109,6 +110,7 @@ void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* opt
   r.Read("window_every", 1, 10000, &options->window_every);
   r.Read("window_fixed", 0, 10000, &options->window_fixed);
   r.Read("window_iterations", 1, 1000, &options->window.max_iterations);
+  r.Read("window_cross_section_sigma_m", 0.0, 1.0, &options->window.cross_section_step_sigma_m);
   options->window.robust_loss_px = options->initial_position.robust_loss_px;
   r.Read("min_correspondences", 6, 100000, &options->min_correspondences);
   if (auto axis = OptionalYamlValue<std::string>(root, "axis_along_pipe", path)) {
@@ -157,6 +159,7 @@ nlohmann::json SparseVoOptionsToJson(const SparseVoOptions& o) {
           {"window_every", o.window_every},
           {"window_fixed", o.window_fixed},
           {"window_iterations", o.window.max_iterations},
+          {"window_cross_section_sigma_m", o.window.cross_section_step_sigma_m},
           {"min_correspondences", o.min_correspondences},
           {"axis_along_pipe", o.mount.axis_along_pipe},
           {"wall_distance_m", o.wall_distance_m},
