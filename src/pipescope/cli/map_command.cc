@@ -57,7 +57,10 @@ std::map<std::string, double*> DoubleKeys(FisheyeMappingOptions* o) {
           {"max_step_change", &o->max_step_change},
           {"max_window_length_change", &o->max_window_length_change},
           {"max_window_cylinder_rms", &o->max_window_cylinder_rms},
-          {"max_window_rms_px", &o->max_window_rms_px}};
+          {"max_window_rms_px", &o->max_window_rms_px},
+          {"max_window_start_error_px", &o->max_window_start_error_px},
+          {"max_step_direction_change_deg", &o->max_step_direction_change_deg},
+          {"max_window_speed_ratio", &o->max_window_speed_ratio}};
 }
 std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
   return {{"window_interval", &o->window_interval},
@@ -95,6 +98,8 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
         options->fit_axis_per_step = entry.second.as<bool>();
       } else if (key == "refine_pose_on_structure") {
         options->refine_pose_on_structure = entry.second.as<bool>();
+      } else if (key == "retriangulate_in_window") {
+        options->retriangulate_in_window = entry.second.as<bool>();
       } else {
         throw InputError("--config " + path + ": unknown key '" + key + "'");
       }
@@ -116,6 +121,7 @@ nlohmann::json OptionsJson(FisheyeMappingOptions options) {
   json["use_cylinder"] = options.window.use_cylinder;
   json["refine_pose_on_structure"] = options.refine_pose_on_structure;
   json["fit_axis_per_step"] = options.fit_axis_per_step;
+  json["retriangulate_in_window"] = options.retriangulate_in_window;
   json["radius_m"] = options.window.radius_m;
   return json;
 }
@@ -228,6 +234,7 @@ int RunMap(const MapFlags& flags) {
                               {"matches_cosine", keyframe.matches_cosine},
                               {"matches_guided", keyframe.matches_guided},
                               {"scale_points", keyframe.points_used},
+                              {"direction_rejected", keyframe.direction_rejected},
                               {"median_flow_px", keyframe.median_flow_px}});
   }
   report.Extra("keyframes") = classification;
@@ -240,6 +247,8 @@ int RunMap(const MapFlags& flags) {
                        {"points", window.points},
                        {"cylinder", window.cylinder},
                        {"rejected", window.rejected},
+                       {"rejection", window.rejection},
+                       {"length_ratio", window.length_ratio},
                        {"observations", window.summary.observations},
                        {"outliers_removed", window.summary.outliers_removed},
                        {"initial_rms_px", window.summary.initial_rms_px},

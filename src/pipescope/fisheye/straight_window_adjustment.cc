@@ -34,16 +34,31 @@ double ImageRms(const Camera& camera, const StraightWindow& window) {
   return count > 0 ? std::sqrt(sum / count) : 0.0;
 }
 
+// Inlier observations of each point.
+std::vector<int> InlierCounts(const StraightWindow& window) {
+  std::vector<int> count(window.points.size(), 0);
+  for (const WindowObservation& observation : window.observations) {
+    if (observation.inlier) ++count[observation.point];
+  }
+  return count;
+}
+
+// RMS distance from the wall over the points the adjustment estimated (two or more inlier
+// observations); the others keep their start and say nothing about the solution.
 double CylinderRms(const StraightWindowOptions& options, const StraightWindow& window) {
   const StraightCylinderError error(options.radius_m, 1.0);
+  const std::vector<int> inliers = InlierCounts(window);
   double sum = 0.0;
-  for (const Eigen::Vector3d& point : window.points) {
+  int count = 0;
+  for (std::size_t k = 0; k < window.points.size(); ++k) {
+    if (inliers[k] < 2) continue;
     double residual;
-    error(window.cylinder, window.poses[0].rotation, window.poses[0].translation, point.data(),
-          &residual);
+    error(window.cylinder, window.poses[0].rotation, window.poses[0].translation,
+          window.points[k].data(), &residual);
     sum += residual * residual;
+    ++count;
   }
-  return window.points.empty() ? 0.0 : std::sqrt(sum / window.points.size());
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
 }
 
 }  // namespace
@@ -98,10 +113,7 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     ceres::QuaternionManifold quaternion_manifold;
-    std::vector<int> observation_count(window->points.size(), 0);
-    for (const WindowObservation& observation : window->observations) {
-      if (observation.inlier) ++observation_count[observation.point];
-    }
+    const std::vector<int> observation_count = InlierCounts(*window);
     for (const WindowObservation& observation : window->observations) {
       if (!observation.inlier || observation_count[observation.point] < 2) continue;
       WindowPose& pose = window->poses[observation.pose];

@@ -140,5 +140,22 @@ TEST(StraightWindowAdjustmentTest, MadRemovesGrossOutliers) {
   EXPECT_LT(MeanPositionError(s), 0.0015);
 }
 
+TEST(StraightWindowAdjustmentTest, CylinderRmsCountsOnlyThePointsTheWindowEstimated) {
+  SyntheticWindow s = MakeWindow(3);
+  // A point 0.1 m off the wall whose observations start as outliers (the window's start check
+  // removed them): the adjustment leaves it where it is, so it must not count as a cylinder
+  // misfit. Counted, it alone would give an RMS of 0.1 / sqrt(401) = 5 mm.
+  const int stray = static_cast<int>(s.window.points.size());
+  s.window.points.emplace_back(0.1, 0.0, 0.3);
+  for (int c = 0; c < 5; ++c) {
+    s.window.observations.push_back({c, stray, Eigen::Vector2d(640.0 + 10 * c, 480.0), false});
+  }
+  StraightWindowOptions options;
+  options.radius_m = kRadius;
+  const StraightWindowSummary summary = OptimiseStraightWindow(FisheyeCamera(), options, &s.window);
+  EXPECT_LT(summary.cylinder_rms_m, 0.004);
+  EXPECT_LT(MeanPositionError(s), 0.001);
+}
+
 }  // namespace
 }  // namespace pipescope

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "pipescope/fisheye/cylinder_scale.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
+#include "pipescope/fisheye/multiview_triangulation.h"
 #include "pipescope/fisheye/solve_small_problem.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/io/image_source.h"
@@ -79,7 +81,8 @@ class KeyframeOdometry {
         // A window never spans a tracking reset: no track links the two sides.
         const int first =
             std::max({section.first_keyframe, segment_start_, k - options_.window_size + 1});
-        if (k - first + 1 >= 3) {
+        // A shorter window (just after a reset) fits its cylinder to too few key frames.
+        if (k - first + 1 >= options_.window_interval) {
           AdjustWindow(first, k, result_->keyframes[k].section,
                        section.view_class == PipeViewClass::kStraight);
         }
@@ -128,6 +131,21 @@ class KeyframeOdometry {
       step.translation() = predicted * last_direction_;
       cam_from_world_[k] = step * cam_from_world_[k - 1];
       segment_start_ = k;
+      return;
+    }
+    // The crawler's direction of travel is nearly fixed in the camera frame (the camera is
+    // mounted on it, looking along the pipe): a translation more than max_step_direction_change_deg
+    // off the recent steps' mean direction (at the start, the optical axis; either sign) is a
+    // wrong relative pose (RANSAC on few matches trades a sideways translation for a few
+    // degrees of rotation). The step then continues the recent motion without turning, and
+    // the next window places it. Unlike the pipe axis this reference depends on no window.
+    const Eigen::Vector3d reference = ReferenceDirection();
+    if (std::abs(keyframe.relative_pose.translation.dot(reference)) <
+        std::cos(options_.max_step_direction_change_deg * M_PI / 180.0)) {
+      result_->keyframes[k].direction_rejected = true;
+      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+      step.translation() = predicted * (recent_directions_.empty() ? last_direction_ : reference);
+      cam_from_world_[k] = step * cam_from_world_[k - 1];
       return;
     }
     const Eigen::Matrix3d& rotation = keyframe.relative_pose.rotation;
@@ -196,11 +214,25 @@ class KeyframeOdometry {
     }
     const Eigen::Vector3d step =
         (cam_from_world_[k] * cam_from_world_[k - 1].inverse()).translation();
-    if (step.norm() > 0.0) last_direction_ = step.normalized();
+    if (step.norm() > 0.0) {
+      last_direction_ = step.normalized();
+      recent_directions_.push_back(last_direction_);
+      if (static_cast<int>(recent_directions_.size()) > options_.speed_history) {
+        recent_directions_.erase(recent_directions_.begin());
+      }
+    }
     recent_speeds_.push_back(step.norm() / std::max(1, frames));
     if (static_cast<int>(recent_speeds_.size()) > options_.speed_history) {
       recent_speeds_.erase(recent_speeds_.begin());
     }
+  }
+
+  // The mean of the recent steps' translation directions (cam_k_from_previous), or the
+  // optical axis before the first step.
+  Eigen::Vector3d ReferenceDirection() const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& direction : recent_directions_) sum += direction;
+    return sum.norm() > 0.0 ? sum.normalized() : Eigen::Vector3d::UnitZ();
   }
 
   // Length of the camera path through key frames first..last.
@@ -216,6 +248,23 @@ class KeyframeOdometry {
                     .norm();
     }
     return length;
+  }
+
+  // The fastest key-frame step of a window (poses from key frame `first` on) over its median
+  // speed, in metres a frame. The degenerate solution that keeps the path length puts the
+  // window's travel into one or two steps and leaves the cameras together elsewhere.
+  double MaxSpeedOverMedian(const std::vector<Eigen::Isometry3d>& cam_from_world, int first) const {
+    std::vector<double> speeds;
+    for (std::size_t k = 1; k < cam_from_world.size(); ++k) {
+      const int frames = tracked_[first + k].frame_index - tracked_[first + k - 1].frame_index;
+      speeds.push_back((cam_from_world[k].inverse().translation() -
+                        cam_from_world[k - 1].inverse().translation())
+                           .norm() /
+                       std::max(1, frames));
+    }
+    const double median = Median(speeds);
+    const double fastest = *std::max_element(speeds.begin(), speeds.end());
+    return median > 0.0 ? fastest / median : std::numeric_limits<double>::infinity();
   }
 
   // The current pipe axis in key frame k's camera frame.
@@ -258,26 +307,62 @@ class KeyframeOdometry {
     }
   }
 
+  // The track's point from its observations in key frames first..last on the current poses
+  // (multi-view midpoint on the bearings), when the rays part by at least the triangulation
+  // angle; false otherwise.
+  bool TriangulateInWindow(const std::vector<const Observation*>& observations,
+                           Eigen::Vector3d* point) const {
+    std::vector<BearingObservation> rays;
+    for (const Observation* observation : observations) {
+      rays.push_back({cam_from_world_[observation->keyframe], observation->bearing});
+    }
+    const Eigen::Vector3d first_ray =
+        rays.front().cam_from_world.linear().transpose() * rays.front().bearing;
+    const Eigen::Vector3d last_ray =
+        rays.back().cam_from_world.linear().transpose() * rays.back().bearing;
+    if (std::acos(std::clamp(first_ray.dot(last_ray), -1.0, 1.0)) <
+        options_.min_triangulation_angle_deg * M_PI / 180.0) {
+      return false;
+    }
+    return TriangulateMidpoint(rays, point);
+  }
+
   void AdjustWindow(int first, int last, int section, bool cylinder) {
     StraightWindow window;
     for (int k = first; k <= last; ++k) {
       window.poses.push_back(WindowPose::FromIsometry(cam_from_world_[k]));
     }
     std::vector<Track*> window_tracks;
+    std::vector<const Observation*> in_window;
     for (auto& [id, track] : tracks_) {
-      if (!track.has_point) continue;
-      int count = 0;
+      in_window.clear();
       for (const Observation& observation : track.observations) {
-        count += observation.keyframe >= first && observation.keyframe <= last ? 1 : 0;
+        if (observation.keyframe >= first && observation.keyframe <= last) {
+          in_window.push_back(&observation);
+        }
       }
-      if (count < 2) continue;
+      if (in_window.size() < 2) continue;
+      Eigen::Vector3d point = track.point;
+      // Every track seen twice in the window is triangulated anew from the current poses
+      // (001 §III-C re-estimates the window's scene points); a point triangulated once, from
+      // two early observations on the chained poses, would carry that chain's error into
+      // the adjustment.
+      if (options_.retriangulate_in_window ? !TriangulateInWindow(in_window, &point)
+                                           : !track.has_point) {
+        continue;
+      }
       const int point_index = static_cast<int>(window.points.size());
-      window.points.push_back(track.point);
+      window.points.push_back(point);
       window_tracks.push_back(&track);
-      for (const Observation& observation : track.observations) {
-        if (observation.keyframe < first || observation.keyframe > last) continue;
+      for (const Observation* observation : in_window) {
+        // Observations far from the start (mismatches) would pull the solution before the
+        // MAD stages could remove them.
+        const bool inlier =
+            !options_.retriangulate_in_window ||
+            ReprojectionErrorPx(camera_, cam_from_world_[observation->keyframe], point,
+                                observation->pixel) < options_.max_window_start_error_px;
         window.observations.push_back(
-            {observation.keyframe - first, point_index, observation.pixel, true});
+            {observation->keyframe - first, point_index, observation->pixel, inlier});
       }
     }
     if (window.points.size() < 10) return;
@@ -296,19 +381,33 @@ class KeyframeOdometry {
     std::vector<Eigen::Isometry3d> adjusted;
     for (const WindowPose& pose : window.poses) adjusted.push_back(pose.ToIsometry());
     const double length_ratio = PathLength(adjusted) / std::max(1e-12, PathLength(first, last));
-    const bool converged =
-        record.summary.final_rms_px < options_.max_window_rms_px &&
-        (!cylinder || record.summary.cylinder_rms_m <
-                          options_.max_window_cylinder_rms * options_.window.radius_m);
-    if (!converged || length_ratio * options_.max_window_length_change < 1.0 ||
-        length_ratio > options_.max_window_length_change) {
+    record.length_ratio = length_ratio;
+    if (record.summary.final_rms_px >= options_.max_window_rms_px) {
+      record.rejection = "image rms";
+    } else if (cylinder && record.summary.cylinder_rms_m >=
+                               options_.max_window_cylinder_rms * options_.window.radius_m) {
+      record.rejection = "cylinder rms";
+    } else if (length_ratio * options_.max_window_length_change < 1.0 ||
+               length_ratio > options_.max_window_length_change) {
+      record.rejection = "path length";
+    } else if (MaxSpeedOverMedian(adjusted, first) > options_.max_window_speed_ratio) {
+      record.rejection = "step spread";
+    }
+    if (!record.rejection.empty()) {
       record.rejected = true;
       result_->windows.push_back(record);
       return;
     }
     for (int k = first; k <= last; ++k) cam_from_world_[k] = adjusted[k - first];
-    for (std::size_t p = 0; p < window_tracks.size(); ++p)
+    std::vector<int> inliers(window.points.size(), 0);
+    for (const WindowObservation& observation : window.observations) {
+      inliers[observation.point] += observation.inlier ? 1 : 0;
+    }
+    for (std::size_t p = 0; p < window_tracks.size(); ++p) {
+      if (inliers[p] < 2) continue;  // not estimated by the window
       window_tracks[p]->point = window.points[p];
+      window_tracks[p]->has_point = true;
+    }
     if (cylinder && section == axis_section_) {
       // The fitted cylinder (eq. 4, relative to the window's first pose) gives the axis that
       // fixes the following step lengths.
@@ -332,8 +431,9 @@ class KeyframeOdometry {
   // else fixes it, and the check of the ones that do.
   std::vector<double> recent_speeds_;
   Eigen::Vector3d last_direction_ = Eigen::Vector3d::UnitZ();
-  int segment_start_ = 0;  // first key frame since the last tracking reset
-  PipeAxis axis_world_;    // the current straight section's axis
+  std::vector<Eigen::Vector3d> recent_directions_;  // of the steps taken from relative poses
+  int segment_start_ = 0;                           // first key frame since the last tracking reset
+  PipeAxis axis_world_;                             // the current straight section's axis
   int axis_section_ = -1;
   int axis_keyframe_ = 0;  // key frame of the last applied window (or the section's start)
 };

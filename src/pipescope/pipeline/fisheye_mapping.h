@@ -55,17 +55,32 @@ struct FisheyeMappingOptions {
   // Off: on the straight benchmark the refinement pulled steps to 0.2-14 times their length
   // wherever the earlier structure was inconsistent, and the speed check then followed them.
   bool refine_pose_on_structure = false;
+  // A key-frame translation more than this angle off the recent steps' direction (either way)
+  // is taken for a wrong relative pose and replaced by the recent motion.
+  double max_step_direction_change_deg = 30.0;
   // A step length more than this factor off the median speed of the last speed_history steps
   // is not taken; the next source (structure, then that speed) is.
   double max_step_change = 2.0;
   int speed_history = 10;
+  // Triangulate every track seen at least twice in a window anew from the window's current
+  // poses before the adjustment (false: only the points triangulated when the track first
+  // parted by min_triangulation_angle_deg, never again). Observations that then reproject
+  // more than max_window_start_error_px away start as outliers.
+  bool retriangulate_in_window = true;
+  double max_window_start_error_px = 10.0;
   // A window whose path length changes by more than this factor is dropped (degenerate).
   double max_window_length_change = 1.5;
+  // ... or whose fastest key-frame step is more than this factor over its median speed (the
+  // crawler moves at a nearly constant speed; the degenerate solution that keeps the path
+  // length bunches the cameras and puts the travel into a few steps).
+  double max_window_speed_ratio = 4.0;
   // A window is applied only when it converged: image RMS below max_window_rms_px and, with
   // the cylinder, its points on the wall to max_window_cylinder_rms * r (RMS). Its cylinder
   // then gives the axis for the following step lengths.
   double max_window_rms_px = 1.5;
-  double max_window_cylinder_rms = 0.025;
+  // 0.05 r: windows at 5-7 mm with sub-pixel image RMS were sound; rejecting them left the
+  // rotation to the chained relative poses (first 340 frames: -10.3 % at 0.025, -2.8 % at 0.05).
+  double max_window_cylinder_rms = 0.05;
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
 };
@@ -80,7 +95,8 @@ struct FisheyeKeyframe {
   int features = 0;
   int matches_cosine = 0;
   int matches_guided = 0;
-  int points_used = 0;  // triangulated points seen that fixed the relative scale
+  int points_used = 0;              // triangulated points seen that fixed the relative scale
+  bool direction_rejected = false;  // translation off the recent direction: motion continued
   double median_flow_px = 0.0;
   int section = 0;
   Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
@@ -99,7 +115,9 @@ struct FisheyeWindowRecord {
   int last_keyframe = 0;
   int points = 0;
   bool cylinder = true;
-  bool rejected = false;  // degenerate result (path length changed too much), not applied
+  bool rejected = false;      // not applied: not converged or degenerate
+  std::string rejection;      // why: "image rms", "cylinder rms", "path length", "step spread"
+  double length_ratio = 1.0;  // adjusted / chained path length through the window
   StraightWindowSummary summary;
 };
 
