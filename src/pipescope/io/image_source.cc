@@ -35,11 +35,11 @@ class FolderImageSource : public ImageSource {
   std::size_t FrameCount() const override { return files_.size(); }
 
  protected:
-  bool ReadRaw(cv::Mat* image, std::string* name) override {
+  bool ReadRaw(cv::Mat* image, std::string* name, bool decode) override {
     if (position_ >= files_.size()) return false;
     const std::filesystem::path& file = files_[position_++];
     *name = file.string();
-    *image = cv::imread(file.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    if (decode) *image = cv::imread(file.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
     return true;
   }
 
@@ -69,9 +69,9 @@ class VideoImageSource : public ImageSource {
   std::size_t FrameCount() const override { return frame_count_; }
 
  protected:
-  bool ReadRaw(cv::Mat* image, std::string* name) override {
+  bool ReadRaw(cv::Mat* image, std::string* name, bool decode) override {
     *name = "frame " + std::to_string(position_++);
-    return capture_.read(*image);
+    return decode ? capture_.read(*image) : capture_.grab();
   }
 
  private:
@@ -217,7 +217,9 @@ double ImageSource::TimestampOf(std::size_t index) const {
 
 ImageSource::RawFrame ImageSource::ReadNextRaw() {
   RawFrame raw;
-  raw.more = ReadRaw(&raw.image, &raw.name);
+  const std::size_t index = raw_index_++;
+  raw.wanted = !options_.wanted || options_.wanted(index);
+  raw.more = ReadRaw(&raw.image, &raw.name, raw.wanted);
   return raw;
 }
 
@@ -240,6 +242,7 @@ std::optional<Frame> ImageSource::Next() {
     const cv::Mat& raw = next.image;
     const std::string& name = next.name;
     const std::size_t index = next_index_++;
+    if (!next.wanted) continue;
     if (raw.empty()) {
       spdlog::warn("skipping unreadable frame {}", name);
       skipped_frames_.push_back(name);

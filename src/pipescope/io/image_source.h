@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -34,6 +35,10 @@ struct ImageSourceOptions {
   // Decode the next frame on a second thread while the caller works on this one: PNG decoding
   // costs as much as a dense pair registration.
   bool read_ahead = true;
+  // When set, only the frames whose index it accepts are decoded and returned; the others are
+  // passed over without decoding (a mosaic that needs one frame in dozens). Indices and
+  // timestamps stay those of the whole sequence.
+  std::function<bool(std::size_t index)> wanted;
 };
 
 // Streams the frames of a dataset one at a time, so a 26 000-frame run holds one frame in
@@ -61,7 +66,8 @@ class ImageSource {
 
   // Reads the raw frame at the current position; returns false at the end. Sets `image` empty
   // for an undecodable frame. Called from one thread at a time, in order.
-  virtual bool ReadRaw(cv::Mat* image, std::string* name) = 0;
+  // With decode false the frame is passed over: `image` stays empty.
+  virtual bool ReadRaw(cv::Mat* image, std::string* name, bool decode) = 0;
 
   // Waits for a frame being read ahead. Every derived class calls it first in its destructor:
   // the reading thread uses the derived class's members.
@@ -69,7 +75,8 @@ class ImageSource {
 
  private:
   struct RawFrame {
-    bool more = false;  // false at the end of the sequence
+    bool more = false;   // false at the end of the sequence
+    bool wanted = true;  // false: passed over without decoding (options.wanted)
     cv::Mat image;
     std::string name;
   };
@@ -80,6 +87,7 @@ class ImageSource {
   double fps_;
   ImageSourceOptions options_;
   std::size_t next_index_ = 0;
+  std::size_t raw_index_ = 0;  // the next frame ReadNextRaw reads (its thread only)
   std::vector<std::string> skipped_frames_;
   std::future<RawFrame> ahead_;  // the next raw frame, when reading ahead
 };

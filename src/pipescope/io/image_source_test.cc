@@ -67,6 +67,31 @@ TEST(ImageSource, NativeDepthAndReadAheadGiveTheSameFrames) {
   dropped.reset();
 }
 
+TEST(ImageSource, WantedFramesOnlyKeepTheirIndicesAndTimestamps) {
+  const auto dir = MakeTestDirectory("source_wanted");
+  for (int i = 0; i < 5; ++i) {
+    cv::imwrite((dir / ("f" + std::to_string(i) + ".png")).string(),
+                cv::Mat(4, 6, CV_8UC1, cv::Scalar(10 * i)));
+  }
+  // The unwanted frame 3 is not even decoded: an undecodable file there is not reported.
+  WriteTextFileAtomically(dir / "f3.png", "this is not a PNG");
+  for (const bool read_ahead : {false, true}) {
+    ImageSourceOptions options;
+    options.read_ahead = read_ahead;
+    options.wanted = [](std::size_t index) { return index != 1 && index != 3; };
+    auto source = ImageSource::Open(FolderManifest(dir, 10.0), options);
+    for (const std::size_t expected : {0u, 2u, 4u}) {
+      const std::optional<Frame> frame = source->Next();
+      ASSERT_TRUE(frame.has_value());
+      EXPECT_EQ(frame->index, expected);
+      EXPECT_DOUBLE_EQ(frame->timestamp, 0.1 * static_cast<double>(expected));
+      EXPECT_NEAR(frame->grey.at<float>(1, 2), 10.0 * static_cast<double>(expected), 1e-4);
+    }
+    EXPECT_FALSE(source->Next().has_value());
+    EXPECT_TRUE(source->skipped_frames().empty());
+  }
+}
+
 TEST(ImageSource, SkipsUnreadableFrameAndKeepsTimestampsOfOthers) {
   const auto dir = MakeTestDirectory("source_corrupt");
   cv::imwrite((dir / "a.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(1)));

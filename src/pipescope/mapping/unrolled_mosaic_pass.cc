@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <set>
 
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/io/image_source.h"
@@ -23,16 +24,22 @@ UnrolledMosaicMap MosaicAtPoses(
     h_max = std::max(h_max, pose.translation().z());
   }
   UnrolledMosaic mosaic(camera, radius_m, pixel_m, h_min - reach_m, h_max + reach_m);
-  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
-  ProgressBar progress("mosaic", source->FrameCount());
+  // The frames at least spacing_m along the pipe from the last one taken, chosen before reading
+  // so that the others are not decoded.
+  std::set<std::size_t> taken;
   double last_h = -INFINITY;
+  for (const auto& [index, pose] : world_from_cam_by_frame) {
+    if (std::abs(pose.translation().z() - last_h) < spacing_m) continue;
+    last_h = pose.translation().z();
+    taken.insert(index);
+  }
+  ImageSourceOptions source_options{camera.Width(), camera.Height()};
+  source_options.wanted = [&taken](std::size_t index) { return taken.count(index) > 0; };
+  auto source = ImageSource::Open(manifest, source_options);
+  ProgressBar progress("mosaic", source->FrameCount());
   while (std::optional<Frame> frame = source->Next()) {
     progress.Update(frame->index + 1);
     const auto pose = world_from_cam_by_frame.find(frame->index);
-    if (pose == world_from_cam_by_frame.end()) continue;
-    const double h = pose->second.translation().z();
-    if (std::abs(h - last_h) < spacing_m) continue;
-    last_h = h;
     mosaic.Add(gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask),
                pose->second);
   }
