@@ -57,6 +57,21 @@ nlohmann::json FailedFramesJson(const std::vector<FrameRecord>& frames) {
   return failed;
 }
 
+// mosaic.png and its description in run.json, when a mosaic was built; pixel_m 0: the
+// image-space map, which has no metric cell size.
+void WriteMosaic(const cv::Mat& mosaic, const char* kind, double pixel_m, cv::Point2d origin_m,
+                 const std::filesystem::path& dir, RunReport* report) {
+  if (mosaic.empty()) return;
+  WriteMosaicPng(dir / "mosaic.png", mosaic);
+  report->Extra("mosaic") = {
+      {"kind", kind},
+      {"width_px", mosaic.cols},
+      {"height_px", mosaic.rows},
+      {"pixel_m", pixel_m > 0.0 ? nlohmann::json(pixel_m) : nlohmann::json(nullptr)},
+      {"origin_h_m", origin_m.x},
+      {"origin_s_m", origin_m.y}};
+}
+
 void WriteMetrics(const DatasetManifest& manifest, const Trajectory& trajectory,
                   const std::filesystem::path& folder) {
   if (manifest.groundtruth_path.empty()) return;
@@ -126,15 +141,8 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   WriteTumTrajectory(staging.path() / "trajectory.tum", result.trajectory);
   WriteTumTrajectory(staging.path() / "keyframes.tum", result.key_frames);
   WritePlyPoints(staging.path() / "points_sparse.ply", result.points);
-  if (!result.mosaic.empty()) {
-    WriteMosaicPng(staging.path() / "mosaic.png", result.mosaic);
-    report.Extra("mosaic") = {{"kind", "unrolled"},
-                              {"width_px", result.mosaic.cols},
-                              {"height_px", result.mosaic.rows},
-                              {"pixel_m", result.mosaic_pixel_m},
-                              {"origin_h_m", result.mosaic_origin_m.x},
-                              {"origin_s_m", result.mosaic_origin_m.y}};
-  }
+  WriteMosaic(result.mosaic, "unrolled", result.mosaic_pixel_m, result.mosaic_origin_m,
+              staging.path(), &report);
   WriteMetrics(manifest, result.trajectory, staging.path());
   report.AddTiming("total", total.ElapsedSeconds());
   report.Write(staging.path() / "run.json");
@@ -187,17 +195,8 @@ int RunOdometry(const OdometryFlags& flags) {
   }
 
   WriteTumTrajectory(staging.path() / "trajectory.tum", result.trajectory);
-  if (!result.mosaic.empty()) {
-    WriteMosaicPng(staging.path() / "mosaic.png", result.mosaic);
-    report.Extra("mosaic") = {
-        {"kind", options.method == DenseMethod::kUnrolled ? "unrolled" : "image"},
-        {"width_px", result.mosaic.cols},
-        {"height_px", result.mosaic.rows},
-        {"pixel_m", result.mosaic_pixel_m > 0.0 ? nlohmann::json(result.mosaic_pixel_m)
-                                                : nlohmann::json(nullptr)},
-        {"origin_h_m", result.mosaic_origin_m.x},
-        {"origin_s_m", result.mosaic_origin_m.y}};
-  }
+  WriteMosaic(result.mosaic, options.method == DenseMethod::kUnrolled ? "unrolled" : "image",
+              result.mosaic_pixel_m, result.mosaic_origin_m, staging.path(), &report);
   WriteMetrics(manifest, result.trajectory, staging.path());
   report.AddTiming("total", total.ElapsedSeconds());
   report.Write(staging.path() / "run.json");

@@ -2,8 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "pipescope/estimation/least_squares_solve.h"
 #include "pipescope/estimation/surface_point.h"
@@ -67,27 +67,19 @@ GlobalScaleResult CorrectGlobalScale(const Camera& camera, double radius_m,
   const double h0 = key_frames->front().pose.translation().z();
   double theta[3] = {0.0, 0.0, 1.0};
   ceres::Problem problem;
-  std::unordered_map<long long, std::pair<std::size_t, std::size_t>> first;
   const std::size_t stride = std::max(1, options.reference_stride);
-  for (std::size_t b = 0; b < key_frames->size(); ++b) {
-    const WindowKeyFrame& key_b = (*key_frames)[b];
-    for (std::size_t j = 0; j < key_b.keypoints.size(); ++j) {
-      const KeyFrameKeypoint& seen = key_b.keypoints[j];
-      const auto [it, inserted] = first.emplace(seen.track, std::make_pair(b, j));
-      if (inserted) continue;
-      const std::size_t a = it->second.first;
-      if (a % stride != 0) continue;
-      const KeyFrameKeypoint& reference = (*key_frames)[a].keypoints[it->second.second];
-      ceres::LossFunction* loss =
-          options.robust_loss_px > 0.0 ? new ceres::CauchyLoss(options.robust_loss_px) : nullptr;
-      problem.AddResidualBlock(
-          new ceres::NumericDiffCostFunction<GlobalScaleCost, ceres::CENTRAL, 2, 3>(
-              new GlobalScaleCost(camera, (*key_frames)[a].pose, key_b.pose, reference.bearing,
-                                  seen.pixel, h0, radius_m)),
-          loss, theta);
-      ++result.residuals;
-    }
-  }
+  ForEachLaterSighting(*key_frames, [&](std::size_t a, const KeyFrameKeypoint& reference,
+                                        std::size_t b, const KeyFrameKeypoint& seen) {
+    if (a % stride != 0) return;
+    ceres::LossFunction* loss =
+        options.robust_loss_px > 0.0 ? new ceres::CauchyLoss(options.robust_loss_px) : nullptr;
+    problem.AddResidualBlock(
+        new ceres::NumericDiffCostFunction<GlobalScaleCost, ceres::CENTRAL, 2, 3>(
+            new GlobalScaleCost(camera, (*key_frames)[a].pose, (*key_frames)[b].pose,
+                                reference.bearing, seen.pixel, h0, radius_m)),
+        loss, theta);
+    ++result.residuals;
+  });
   if (result.residuals == 0) return result;
   const LeastSquaresOutcome outcome =
       SolveLeastSquares(&problem, ceres::DENSE_QR, options.max_iterations, result.residuals);

@@ -4,7 +4,6 @@
 
 #include <array>
 #include <cmath>
-#include <unordered_map>
 
 #include "pipescope/estimation/cylinder_transfer_cost.h"
 #include "pipescope/estimation/least_squares_solve.h"
@@ -27,26 +26,17 @@ WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
     positions[a] = {p.x(), p.y(), p.z()};
     any_fixed = any_fixed || key.fixed;
   }
-  // First sighting of every track, then every later one.
-  std::unordered_map<long long, std::pair<std::size_t, std::size_t>> first;
   ceres::Problem problem;
-  for (std::size_t b = 0; b < count; ++b) {
-    const WindowKeyFrame& key_b = (*key_frames)[b];
-    for (std::size_t j = 0; j < key_b.keypoints.size(); ++j) {
-      const KeyFrameKeypoint& seen = key_b.keypoints[j];
-      const auto [it, inserted] = first.emplace(seen.track, std::make_pair(b, j));
-      if (inserted) continue;
-      const std::size_t a = it->second.first;
-      if ((*key_frames)[a].fixed && key_b.fixed) continue;
-      const KeyFrameKeypoint& reference = (*key_frames)[a].keypoints[it->second.second];
-      ceres::LossFunction* loss =
-          options.robust_loss_px > 0.0 ? new ceres::CauchyLoss(options.robust_loss_px) : nullptr;
-      problem.AddResidualBlock(
-          CylinderTransferCost::Create(camera, reference.bearing, seen.pixel, radius_m), loss,
-          rotations[a].data(), positions[a].data(), rotations[b].data(), positions[b].data());
-      ++summary.residuals;
-    }
-  }
+  ForEachLaterSighting(*key_frames, [&](std::size_t a, const KeyFrameKeypoint& reference,
+                                        std::size_t b, const KeyFrameKeypoint& seen) {
+    if ((*key_frames)[a].fixed && (*key_frames)[b].fixed) return;
+    ceres::LossFunction* loss =
+        options.robust_loss_px > 0.0 ? new ceres::CauchyLoss(options.robust_loss_px) : nullptr;
+    problem.AddResidualBlock(
+        CylinderTransferCost::Create(camera, reference.bearing, seen.pixel, radius_m), loss,
+        rotations[a].data(), positions[a].data(), rotations[b].data(), positions[b].data());
+    ++summary.residuals;
+  });
   if (summary.residuals == 0) return summary;
   if (options.cross_section_step_sigma_m > 0.0) {
     for (std::size_t b = 1; b < count; ++b) {

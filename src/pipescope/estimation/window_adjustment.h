@@ -1,6 +1,9 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstddef>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "pipescope/camera/camera.h"
@@ -32,6 +35,23 @@ struct WindowKeyFrame {
   bool fixed = false;
   std::vector<KeyFrameKeypoint> keypoints;
 };
+
+// Calls visit(a, reference, b, seen) for every later sighting `seen` (in key frame b) of a track
+// whose first sighting in these key frames is `reference` (in key frame a < b), in key-frame
+// order: the pairs every cylinder-transfer residual is built from.
+template <typename Visit>
+void ForEachLaterSighting(const std::vector<WindowKeyFrame>& key_frames, Visit visit) {
+  std::unordered_map<long long, std::pair<std::size_t, std::size_t>> first;
+  for (std::size_t b = 0; b < key_frames.size(); ++b) {
+    for (std::size_t j = 0; j < key_frames[b].keypoints.size(); ++j) {
+      const KeyFrameKeypoint& seen = key_frames[b].keypoints[j];
+      const auto [it, inserted] = first.emplace(seen.track, std::make_pair(b, j));
+      if (inserted) continue;
+      const auto [a, i] = it->second;
+      visit(a, key_frames[a].keypoints[i], b, seen);
+    }
+  }
+}
 
 struct WindowAdjustmentSummary {
   int residuals = 0;
