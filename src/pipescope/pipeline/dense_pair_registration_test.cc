@@ -80,8 +80,10 @@ TEST(PlanarPairRegistration, FullSearchWindowFollowsThePrediction) {
 TEST(PlanarPairRegistration, PhaseRecoversRotation) {
   const double rotation = 2.5 * M_PI / 180.0;
   const RegistrationPair pair = MakeRegistrationPair({256, 192}, {3.2, 1.1}, rotation, 1.0, 5);
+  PairRegistrationOptions options;
+  options.phase.estimate_rotation = true;
   const PairMotion motion =
-      RegisterPlanarPair(DenseMethod::kPhase, pair.reference, pair.next, {}, {0.0, 0.0});
+      RegisterPlanarPair(DenseMethod::kPhase, pair.reference, pair.next, options, {0.0, 0.0});
   EXPECT_NEAR(motion.rotation_rad, rotation, 0.1 * M_PI / 180.0);
   EXPECT_LT(Distance(motion.shift, {3.2, 1.1}), 0.2);
 }
