@@ -15,7 +15,7 @@ namespace pipescope {
 //   pyramid_levels         coarse-to-fine full search (0 = exhaustive, as 000)
 //   min_correlation        overlap ZNCC below which a pair counts as failed
 //   max_saturated_fraction frames with more saturated pixels are not registered
-//   phase_rotation         phase: search the rotation too (003 eq. 7)
+//   phase_rotation         phase: search the rotation too (003 eq. 7); default false
 //   max_rotation_deg       phase: the rotation search's range
 //   registration_band      planar methods: fraction of the frame across the pipe registered
 //   presmooth_sigma_px     Gauss-Newton methods: Gaussian smoothing before registration
