@@ -13,6 +13,10 @@ trap 'rm -f "$TABLE"' EXIT
 for seed in $SEEDS; do
   "$HERE/dense_vo_accuracy.sh" "$BUILD_DIR" "$OUT" "$seed" | tee -a "$TABLE"
 done
+# What no planar method observes, per dataset, from ground truth (bench/dense_vo_floor.py).
+for seed in $SEEDS; do
+  for preset in steel-6in steel-16in; do "$HERE/dense_vo_floor.py" "$OUT/$preset-seed$seed"; done
+done
 python3 - "$TABLE" <<'PY'
 import collections, sys
 errors = collections.defaultdict(list)
