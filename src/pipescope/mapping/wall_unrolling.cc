@@ -83,6 +83,24 @@ bool BlockOffImage(const Camera& camera, const std::array<const LatticeNode*, 4>
   return left || right || above || below;
 }
 
+// A block is interpolated only while its corners lie this close together in the image: the
+// interpolation error grows as the square of the block's size in pixels (0.003 px at 4 px on
+// the steel-6in camera), so cells coarser than a pixel (a coarse mosaic) are projected one by
+// one.
+constexpr double kMaxBlockSpanPx = 6.0;
+
+// The largest distance along x or y between the block's corners, in pixels; infinite when one
+// has no pixel.
+double BlockSpanPx(const std::array<const LatticeNode*, 4>& corners) {
+  Eigen::Vector2d low = corners[0]->pixel, high = corners[0]->pixel;
+  for (const LatticeNode* node : corners) {
+    if (node->status == ProjectionStatus::kBehindCamera) return INFINITY;
+    low = low.cwiseMin(node->pixel);
+    high = high.cwiseMax(node->pixel);
+  }
+  return (high - low).maxCoeff();
+}
+
 // The nodes (every `step`-th cell, the last node at or past the last cell) projected exactly;
 // every block of step x step cells between four nodes on the image interpolated, every block
 // whose nodes all lie beyond one edge of the image unseen, and the rest projected cell by cell.
@@ -111,10 +129,12 @@ void BuildLatticeMaps(const Camera& camera, const Eigen::Isometry3d& cam_from_wo
         const std::array<const LatticeNode*, 4> corners = {
             &nodes[j * nodes_u + i], &nodes[j * nodes_u + i + 1], &nodes[(j + 1) * nodes_u + i],
             &nodes[(j + 1) * nodes_u + i + 1]};
-        const bool corners_seen = std::all_of(corners.begin(), corners.end(), [](auto node) {
-          return node->status == ProjectionStatus::kValid;
-        });
-        const bool off_image = !corners_seen && BlockOffImage(camera, corners);
+        const bool small = BlockSpanPx(corners) <= kMaxBlockSpanPx;
+        const bool corners_seen =
+            small && std::all_of(corners.begin(), corners.end(), [](auto node) {
+              return node->status == ProjectionStatus::kValid;
+            });
+        const bool off_image = small && !corners_seen && BlockOffImage(camera, corners);
         for (int v = v_begin; v < v_end; ++v) {
           float* xs = map_x->ptr<float>(v);
           float* ys = map_y->ptr<float>(v);

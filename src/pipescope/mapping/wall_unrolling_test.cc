@@ -166,13 +166,30 @@ TEST_P(LatticeMaps, MatchTheExactMaps) {
   EXPECT_GT(seen, 700000);
   // Only where the interpolation moves a cell across the image's edge.
   EXPECT_LT(disagree, 20);
-  // The interpolation error grows as the step squared (measured: 0.0007, 0.0028, 0.011 and
-  // 0.043 px at 2, 4, 8 and 16 cells).
+  // The interpolation error grows as the step squared (measured: 0.0007 and 0.0028 px at 2 and
+  // 4 cells, 0.011 px at 8 before blocks wider than 6 px were projected cell by cell; now 0).
   const double step = GetParam();
   EXPECT_LT(largest, 0.001 * step * step);
 }
 
 INSTANTIATE_TEST_SUITE_P(Steps, LatticeMaps, testing::Values(2, 4, 8));
+
+// Cells of 5 image pixels (a coarse mosaic): a block of 4 would span 20 px and bend by about
+// half a pixel, so the blocks are projected cell by cell and the maps stay exact.
+TEST(LatticeMaps, CoarseCellsAreProjectedExactly) {
+  const Camera camera(CameraModelId::kPinholeRadtan, 1024, 768,
+                      {731.21, 731.21, 511.5, 383.5, -0.0654, 0, 0, 0, 0});
+  const double radius = 0.07666;
+  const Eigen::Isometry3d world_from_cam = WallLookingPose({0.004, -0.003, 0.5});
+  const double pixel = 5.0 / 9538.37;
+  const UnrolledGrid grid{radius, 0.435, radius * M_PI / 2 - 0.065, pixel, cv::Size(248, 273)};
+  cv::Mat exact_x, exact_y, lattice_x, lattice_y;
+  BuildUnrollingMaps(camera, world_from_cam, grid, &exact_x, &exact_y, 1);
+  BuildUnrollingMaps(camera, world_from_cam, grid, &lattice_x, &lattice_y, 4);
+  EXPECT_GT(cv::countNonZero(exact_x != -1.0f), 25000);
+  EXPECT_LT(cv::norm(lattice_x, exact_x, cv::NORM_INF), 1e-4);
+  EXPECT_LT(cv::norm(lattice_y, exact_y, cv::NORM_INF), 1e-4);
+}
 
 TEST(UnrollFrame, BilinearIsExactOnARampAndMasksTheBorder) {
   cv::Mat frame(40, 50, CV_32F);
