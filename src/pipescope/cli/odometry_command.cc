@@ -115,6 +115,8 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   for (const auto& [stage, seconds] : result.stage_cpu_seconds) {
     report.AddTiming("odometry_" + stage + "_cpu", seconds);
   }
+  report.AddTiming("mosaic", result.mosaic_seconds);
+  report.AddTiming("mosaic_cpu", result.mosaic_cpu_seconds);
   report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
   report.Extra("initial_position") = {

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipescope/image/gain_mask.h"
+#include "pipescope/mapping/wall_unrolling.h"
 #include "pipescope/synthetic/presets.h"
 #include "pipescope/synthetic/simulation.h"
 
@@ -41,6 +42,22 @@ inline double MaskedHighPassZncc(const cv::Mat& a, const cv::Mat& b, const cv::M
   cv::Mat inner;
   cv::erode(mask, inner, cv::Mat(), cv::Point(-1, -1), static_cast<int>(std::ceil(2 * sigma)));
   return MaskedZncc(high_pass(a), high_pass(b), inner);
+}
+
+// The simulator's albedo at each cell's (h, s) of `grid`, filtered to the cell size like a pixel:
+// the ground truth an unrolled frame or mosaic must register with.
+inline cv::Mat SimulatedWallAlbedo(const Simulation& simulation, const UnrolledGrid& grid) {
+  const WallTexture& texture = simulation.texture();
+  const double circumference = 2 * M_PI * grid.radius_m;
+  cv::Mat albedo(grid.size, CV_32F);
+  for (int v = 0; v < grid.size.height; ++v) {
+    for (int u = 0; u < grid.size.width; ++u) {
+      albedo.at<float>(v, u) =
+          texture.Albedo(0, grid.h0_m + u * grid.pixel_m, grid.s0_m + v * grid.pixel_m,
+                         circumference, grid.pixel_m);
+    }
+  }
+  return albedo;
 }
 
 // The wall-looking 16-inch steel pipe of 000 (pipe 2) at a small image size, so tests render

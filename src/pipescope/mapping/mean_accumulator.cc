@@ -35,24 +35,32 @@ void MeanAccumulator::Add(const cv::Mat& values, cv::Point origin, const cv::Mat
       for (int y = overlap.y; y < overlap.br().y; ++y) {
         const float* in = values.ptr<float>(y - origin.y);
         const uchar* in_mask = mask.empty() ? nullptr : mask.ptr<uchar>(y - origin.y);
+        float* sum = nullptr;
+        float* count = nullptr;
+        int first_x = std::numeric_limits<int>::max(), last_x = std::numeric_limits<int>::min();
         for (int x = overlap.x; x < overlap.br().x; ++x) {
           const int ix = x - origin.x;
           if ((in_mask != nullptr && in_mask[ix] == 0) || !std::isfinite(in[ix])) continue;
-          if (!tile) {
-            tile = std::make_unique<Tile>();
-            tile->sum = cv::Mat::zeros(tile_size_, tile_size_, CV_32F);
-            tile->count = cv::Mat::zeros(tile_size_, tile_size_, CV_32F);
+          if (sum == nullptr) {
+            if (!tile) {
+              tile = std::make_unique<Tile>();
+              tile->sum = cv::Mat::zeros(tile_size_, tile_size_, CV_32F);
+              tile->count = cv::Mat::zeros(tile_size_, tile_size_, CV_32F);
+            }
+            sum = tile->sum.ptr<float>(y - tile_rect.y);
+            count = tile->count.ptr<float>(y - tile_rect.y);
+            first_x = x;
           }
-          const int ty = y - tile_rect.y;
-          const int tx = x - tile_rect.x;
-          tile->sum.at<float>(ty, tx) += in[ix];
-          tile->count.at<float>(ty, tx) += 1.0f;
-          min_x = std::min(min_x, x);
-          max_x = std::max(max_x, x);
-          min_y = std::min(min_y, y);
-          max_y = std::max(max_y, y);
-          touched = true;
+          sum[x - tile_rect.x] += in[ix];
+          count[x - tile_rect.x] += 1.0f;
+          last_x = x;
         }
+        if (sum == nullptr) continue;
+        min_x = std::min(min_x, first_x);
+        max_x = std::max(max_x, last_x);
+        min_y = std::min(min_y, y);
+        max_y = std::max(max_y, y);
+        touched = true;
       }
       if (!touched && !tile) tiles_.erase(Key(tile_x, tile_y));
     }

@@ -12,7 +12,8 @@ UnrolledMosaic::UnrolledMosaic(const Camera& camera, double radius_m, double pix
     : camera_(camera),
       max_axial_range_m_(options.max_axial_range_m > 0 ? options.max_axial_range_m
                                                        : 3.0 * radius_m),
-      footprint_samples_(std::max(2, options.footprint_samples)) {
+      footprint_samples_(std::max(2, options.footprint_samples)),
+      map_lattice_cells_(std::max(1, options.map_lattice_cells)) {
   if (!(radius_m > 0) || !(pixel_m > 0) || !(h_max_m >= h_min_m) || !std::isfinite(h_min_m) ||
       !std::isfinite(h_max_m)) {
     throw std::invalid_argument("UnrolledMosaic: needs radius > 0, pixel > 0, h_max >= h_min");
@@ -111,7 +112,7 @@ void UnrolledMosaic::Add(const cv::Mat& frame, const Eigen::Isometry3d& world_fr
     piece.s0_m = wrapped * grid_.pixel_m;
     piece.size = cv::Size(columns.size(), count);
     cv::Mat map_x, map_y, valid;
-    BuildUnrollingMaps(camera_, world_from_cam, piece, &map_x, &map_y);
+    BuildUnrollingMaps(camera_, world_from_cam, piece, &map_x, &map_y, map_lattice_cells_);
     const cv::Mat values = UnrollFrame(frame, map_x, map_y, &valid);
     accumulator_.Add(values, cv::Point(columns.start, wrapped), valid);
     v += count;

@@ -18,6 +18,10 @@ struct UnrolledMosaicOptions {
   // Pixels of the frame sampled (per side, and as an interior grid) to find the part of the
   // wall it sees; only cells there are projected.
   int footprint_samples = 48;
+  // The unrolling maps are projected exactly every this many cells and interpolated between
+  // (BuildUnrollingMaps' lattice_cells); 1 projects every cell. Projecting every cell of a
+  // 1024x768 frame's footprint was most of the time of the mosaic.
+  int map_lattice_cells = 4;
 };
 
 // The unrolled appearance map of a straight pipe on its surface (000 §6.1, Fig. 15 and 17): a
@@ -55,6 +59,7 @@ class UnrolledMosaic {
   UnrolledGrid grid_;
   double max_axial_range_m_;
   int footprint_samples_;
+  int map_lattice_cells_;
   MeanAccumulator accumulator_;
   int frames_added_ = 0;
 };

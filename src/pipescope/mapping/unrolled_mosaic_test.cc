@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "pipescope/mapping/mapping_testing.h"
 
@@ -66,7 +67,10 @@ TEST_P(UnrolledMosaicFootprint, LosesNoCell) {
   rng.fill(frame, cv::RNG::UNIFORM, 0.0, 1.0);
 
   const double pixel = 0.002;
-  UnrolledMosaic mosaic(camera, radius, pixel, -0.5, 1.5);
+  // Every cell projected, so that the footprint's cells equal the full map's exactly.
+  UnrolledMosaicOptions options;
+  options.map_lattice_cells = 1;
+  UnrolledMosaic mosaic(camera, radius, pixel, -0.5, 1.5, options);
   mosaic.Add(frame, test_case.world_from_cam);
   const cv::Mat rendered = mosaic.Render();
 
@@ -131,6 +135,57 @@ TEST(UnrolledMosaic, HalvesOfASimulatedPassAgree) {
   // Control: two cells (1 mm) off along the pipe.
   const cv::Mat shifted = odd.Render(common + cv::Point(2, 0));
   EXPECT_LT(MaskedHighPassZncc(a, shifted, both & (shifted == shifted)), 0.6);
+}
+
+// The default mosaic (unrolling maps interpolated on a lattice) against the one that projects
+// every cell, over a simulated pass at the camera's own ground resolution: the same cells, the
+// same values to a small fraction of the texture's contrast, and both register with the
+// simulator's wall texture.
+TEST(UnrolledMosaic, LatticeMapsAgreeWithEveryCellProjected) {
+  const Simulation simulation(SmallSteelConfig(320, 240, 24));
+  const GainCorrectedFrames frames(simulation);
+  const double radius = simulation.config().radius_m;
+  const double pixel = 1.0 / 3700.0;  // 1 / zeta of this camera (~3725 px/m)
+  const double h_first = simulation.FramePose(0).translation().z();
+  const double h_last = simulation.FramePose(23).translation().z();
+  UnrolledMosaicOptions exact_options;
+  exact_options.map_lattice_cells = 1;
+  UnrolledMosaic exact(simulation.camera(), radius, pixel, h_first - 0.05, h_last + 0.05,
+                       exact_options);
+  UnrolledMosaic lattice(simulation.camera(), radius, pixel, h_first - 0.05, h_last + 0.05);
+  for (int k = 0; k < 24; k += 3) {
+    const cv::Mat frame = frames.Frame(k);
+    exact.Add(frame, simulation.FramePose(k));
+    lattice.Add(frame, simulation.FramePose(k));
+  }
+  const cv::Rect region = exact.CoveredRegion();
+  ASSERT_EQ(lattice.CoveredRegion(), region);
+  const cv::Mat a = exact.Render(region);
+  const cv::Mat b = lattice.Render(region);
+  const cv::Mat seen_a = a == a, seen_b = b == b;
+  const int covered = cv::countNonZero(seen_a);
+  EXPECT_GT(covered, region.area() / 2);
+  // Only where the interpolation moves a cell across the image's edge.
+  EXPECT_LE(cv::countNonZero(seen_a != seen_b), covered / 10000);
+  const cv::Mat both = seen_a & seen_b;
+  cv::Scalar mean, contrast;
+  cv::meanStdDev(a, mean, contrast, both);
+  const double mean_difference = cv::mean(cv::abs(a - b), both)[0];
+  double largest_difference = 0.0;
+  cv::minMaxLoc(cv::abs(a - b), nullptr, &largest_difference, nullptr, nullptr, both);
+  std::printf("%d cells, texture sd %.4f, mean |difference| %.6f, largest %.6f\n", covered,
+              contrast[0], mean_difference, largest_difference);
+  EXPECT_LT(mean_difference, 1e-3 * contrast[0]);
+
+  UnrolledGrid grid = exact.grid();
+  grid.h0_m += region.x * pixel;
+  grid.s0_m += region.y * pixel;
+  grid.size = region.size();
+  const cv::Mat albedo = SimulatedWallAlbedo(simulation, grid);
+  const double zncc_exact = MaskedHighPassZncc(a, albedo, both);
+  const double zncc_lattice = MaskedHighPassZncc(b, albedo, both);
+  EXPECT_GT(zncc_lattice, 0.9);
+  EXPECT_NEAR(zncc_lattice, zncc_exact, 1e-4);
 }
 
 }  // namespace

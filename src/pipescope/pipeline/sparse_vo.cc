@@ -627,8 +627,12 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   if (options.build_mosaic) {
     double pixel_m = options.mosaic_pixel_m;
     if (!(pixel_m > 0.0)) pixel_m = wall_distance / CentralFocalLengthPx(camera);
+    const Timer mosaic_timer;
+    const ProcessCpuTimer mosaic_cpu_timer;
     BuildMosaic(manifest, camera, gain_mask, radius, pixel_m, options.mosaic_spacing_cells,
                 &result);
+    result.mosaic_seconds = mosaic_timer.ElapsedSeconds();
+    result.mosaic_cpu_seconds = mosaic_cpu_timer.ElapsedSeconds();
   }
   return result;
 }

@@ -124,6 +124,9 @@ struct SparseVoResult {
   std::map<std::string, double> stage_seconds;
   std::map<std::string, double> stage_cpu_seconds;
   double odometry_cpu_seconds = 0.0;
+  // The unrolled mosaic's pass after the odometry: wall seconds, CPU seconds of the process.
+  double mosaic_seconds = 0.0;
+  double mosaic_cpu_seconds = 0.0;
 };
 
 // Runs sparse VO over the dataset's frames; needs pipe.inner_radius_m. The dataset's gain mask

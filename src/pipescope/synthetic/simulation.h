@@ -35,6 +35,8 @@ class Simulation {
   const SimulationConfig& config() const { return config_; }
   const Camera& camera() const { return camera_; }
   const Layout& layout() const { return layout_; }
+  // The wall's albedo pattern: the ground truth of an unrolled map of the wall.
+  const WallTexture& texture() const { return texture_; }
   const Renderer& renderer() const { return *renderer_; }
   const TrajectoryGenerator& motion() const { return *motion_; }
   // The circle-grid target of layout scale-target (000 §3.3), null for other layouts.
