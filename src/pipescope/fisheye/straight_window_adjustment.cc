@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pipescope/fisheye/cylinder_axis_prior_error.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/solve_small_problem.h"
@@ -107,6 +108,9 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
   summary.initial_rms_px = ImageRms(camera, *window);
   if (window->poses.size() < 2 || window->points.empty()) return summary;
   if (options.use_cylinder) FitStraightCylinder(options, window);
+  const bool prior_active = options.use_cylinder && window->axis_prior.has_value();
+  double start_rotation[4];
+  std::copy(window->poses[0].rotation, window->poses[0].rotation + 4, start_rotation);
 
   for (int stage = 0; stage < std::max(1, options.stages); ++stage) {
     ceres::Problem::Options problem_options;
@@ -130,6 +134,14 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
                                  window->poses[0].rotation, window->poses[0].translation,
                                  window->points[k].data());
       }
+      if (prior_active) {
+        problem.AddResidualBlock(
+            CylinderAxisPriorError::Create(
+                window->axis_prior->direction, window->axis_prior->point, start_rotation,
+                options.axis_prior_sigma_deg * M_PI / 180.0, options.axis_prior_sigma_m,
+                options.first_rotation_sigma_deg * M_PI / 180.0),
+            nullptr, window->cylinder, window->poses[0].rotation, window->poses[0].translation);
+      }
     }
     for (WindowPose& pose : window->poses) {
       if (problem.HasParameterBlock(pose.rotation)) {
@@ -137,7 +149,9 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
       }
     }
     if (problem.HasParameterBlock(window->poses[0].rotation)) {
-      problem.SetParameterBlockConstant(window->poses[0].rotation);
+      // The gauge: the first pose; with an axis prior only its position (the prior and the
+      // pipe's cylinder fix its heading).
+      if (!prior_active) problem.SetParameterBlockConstant(window->poses[0].rotation);
       problem.SetParameterBlockConstant(window->poses[0].translation);
     }
     ceres::Solver::Options solver_options;
