@@ -204,13 +204,19 @@ TEST(StraightWindowAdjustmentTest, AxisPriorHoldsTheHeadingOfADriftedWindow) {
   const double degree = M_PI / 180.0;
   EXPECT_GT(std::abs(axis_world.direction.normalized().z()), std::cos(0.05 * degree));
 
-  const WindowPlacement placement{10, 1.0 * degree};
+  // Three metres on, as in the benchmark: a turn of the first pose must not move its centre.
+  const WindowPlacement placement{300, 1.0 * degree};
   SyntheticWindow free_cylinder = MakeWindow(8, placement);
   SyntheticWindow with_prior = MakeWindow(8, placement);
   with_prior.window.axis_prior = axis_world;
+  const Eigen::Vector3d first_centre =
+      with_prior.window.poses[0].ToIsometry().inverse().translation();
   const StraightWindowSummary summary =
       OptimiseStraightWindow(FisheyeCamera(), options, &with_prior.window);
   OptimiseStraightWindow(FisheyeCamera(), options, &free_cylinder.window);
+  // The gauge is the first camera's centre, also when the prior turns that camera.
+  EXPECT_LT((with_prior.window.poses[0].ToIsometry().inverse().translation() - first_centre).norm(),
+            1e-9);
 
   // A free cylinder follows the first pose: the whole window keeps the inherited degree. The
   // prior puts the cylinder on the previous axis, and the later poses turn back towards it.
