@@ -60,7 +60,10 @@ std::map<std::string, double*> DoubleKeys(FisheyeMappingOptions* o) {
           {"max_window_rms_px", &o->max_window_rms_px},
           {"max_window_start_error_px", &o->max_window_start_error_px},
           {"max_step_direction_change_deg", &o->max_step_direction_change_deg},
-          {"max_window_speed_ratio", &o->max_window_speed_ratio}};
+          {"max_window_speed_ratio", &o->max_window_speed_ratio},
+          {"axis_prior_sigma_deg", &o->window.axis_prior_sigma_deg},
+          {"axis_prior_sigma_m", &o->window.axis_prior_sigma_m},
+          {"first_rotation_sigma_deg", &o->window.first_rotation_sigma_deg}};
 }
 std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
   return {{"window_interval", &o->window_interval},
@@ -100,6 +103,8 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
         options->refine_pose_on_structure = entry.second.as<bool>();
       } else if (key == "retriangulate_in_window") {
         options->retriangulate_in_window = entry.second.as<bool>();
+      } else if (key == "axis_prior") {
+        options->axis_prior = entry.second.as<bool>();
       } else {
         throw InputError("--config " + path + ": unknown key '" + key + "'");
       }
@@ -122,6 +127,7 @@ nlohmann::json OptionsJson(FisheyeMappingOptions options) {
   json["refine_pose_on_structure"] = options.refine_pose_on_structure;
   json["fit_axis_per_step"] = options.fit_axis_per_step;
   json["retriangulate_in_window"] = options.retriangulate_in_window;
+  json["axis_prior"] = options.axis_prior;
   json["radius_m"] = options.window.radius_m;
   return json;
 }

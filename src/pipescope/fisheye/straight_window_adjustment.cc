@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pipescope/fisheye/cylinder_axis_prior_error.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/solve_small_problem.h"
@@ -61,6 +62,19 @@ double CylinderRms(const StraightWindowOptions& options, const StraightWindow& w
   return count > 0 ? std::sqrt(sum / count) : 0.0;
 }
 
+// Moves the world origin to `origin` (world coordinates): points and the axis prior shift by
+// -origin, and cam_from_world's translation becomes t + R origin, so every camera keeps its
+// place and rotation relative to the scene.
+void MoveWorldOrigin(const Eigen::Vector3d& origin, StraightWindow* window) {
+  for (Eigen::Vector3d& point : window->points) point -= origin;
+  for (WindowPose& pose : window->poses) {
+    Eigen::Isometry3d cam_from_world = pose.ToIsometry();
+    cam_from_world.translation() += cam_from_world.linear() * origin;
+    pose = WindowPose::FromIsometry(cam_from_world);
+  }
+  if (window->axis_prior) window->axis_prior->point -= origin;
+}
+
 }  // namespace
 
 WindowPose WindowPose::FromIsometry(const Eigen::Isometry3d& cam_from_world) {
@@ -107,6 +121,14 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
   summary.initial_rms_px = ImageRms(camera, *window);
   if (window->poses.size() < 2 || window->points.empty()) return summary;
   if (options.use_cylinder) FitStraightCylinder(options, window);
+  const bool prior_active = options.use_cylinder && window->axis_prior.has_value();
+  // The first camera's centre is the gauge: with it at the origin its translation is zero
+  // whatever its rotation, so holding the translation fixed holds the centre even when the
+  // axis prior frees the rotation.
+  const Eigen::Vector3d first_centre = window->poses[0].ToIsometry().inverse().translation();
+  MoveWorldOrigin(first_centre, window);
+  double start_rotation[4];
+  std::copy(window->poses[0].rotation, window->poses[0].rotation + 4, start_rotation);
 
   for (int stage = 0; stage < std::max(1, options.stages); ++stage) {
     ceres::Problem::Options problem_options;
@@ -130,6 +152,14 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
                                  window->poses[0].rotation, window->poses[0].translation,
                                  window->points[k].data());
       }
+      if (prior_active) {
+        problem.AddResidualBlock(
+            CylinderAxisPriorError::Create(
+                window->axis_prior->direction, window->axis_prior->point, start_rotation,
+                options.axis_prior_sigma_deg * M_PI / 180.0, options.axis_prior_sigma_m,
+                options.first_rotation_sigma_deg * M_PI / 180.0),
+            nullptr, window->cylinder, window->poses[0].rotation, window->poses[0].translation);
+      }
     }
     for (WindowPose& pose : window->poses) {
       if (problem.HasParameterBlock(pose.rotation)) {
@@ -137,7 +167,9 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
       }
     }
     if (problem.HasParameterBlock(window->poses[0].rotation)) {
-      problem.SetParameterBlockConstant(window->poses[0].rotation);
+      // The gauge: the first pose; with an axis prior only its position (the prior and the
+      // pipe's cylinder fix its heading).
+      if (!prior_active) problem.SetParameterBlockConstant(window->poses[0].rotation);
       problem.SetParameterBlockConstant(window->poses[0].translation);
     }
     ceres::Solver::Options solver_options;
@@ -177,6 +209,7 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
       }
     }
   }
+  MoveWorldOrigin(-first_centre, window);
   summary.final_rms_px = ImageRms(camera, *window);
   summary.cylinder_rms_m = options.use_cylinder ? CylinderRms(options, *window) : 0.0;
   summary.seconds = timer.ElapsedSeconds();

@@ -2,9 +2,11 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "pipescope/camera/camera.h"
+#include "pipescope/fisheye/cylinder_scale.h"
 
 namespace pipescope {
 
@@ -17,7 +19,8 @@ namespace pipescope {
 // point, the cylinder placed relative to the window's first pose, which is held fixed (the
 // gauge). The supplied radius fixes the metric scale. Huber weighting on each term; outliers
 // removed at several stages by the median absolute deviation of the signed Huber-weighted image
-// errors u - u'.
+// errors u - u'. Given the previous window's axis (not in 001), the cylinder is tied to it
+// (CylinderAxisPriorError) and the first pose's rotation is adjusted too.
 struct StraightWindowOptions {
   double radius_m = 0.2;  // supplied pipe radius r
   double tau = 2.5e5;     // 001: tau = 2.5e5
@@ -29,6 +32,12 @@ struct StraightWindowOptions {
   double mad_factor = 3.0;
   double min_mad_px = 0.1;  // MAD floor, so a near-perfect window keeps its observations
   int max_iterations_per_stage = 20;
+  // The prior tying the cylinder to the previous window's axis (CylinderAxisPriorError), when
+  // the window has one: one sigma of angle, of offset at the first camera, or of the first
+  // pose's turn (then free) counts as a pixel.
+  double axis_prior_sigma_deg = 0.2;
+  double axis_prior_sigma_m = 0.002;
+  double first_rotation_sigma_deg = 1.0;
   int num_threads = 2;
 };
 
@@ -55,6 +64,10 @@ struct StraightWindow {
   // Cylinder {gamma, beta, t_X, t_Y} relative to poses[0] (eq. 4); used as the initial value and
   // receives the fit.
   double cylinder[4] = {0, 0, 0, 0};
+  // The previous window's axis in the same straight section, in the world: the pipe is one
+  // straight cylinder, so this window's axis should continue it. With it, poses[0]'s rotation
+  // is adjusted too (only its translation stays fixed).
+  std::optional<PipeAxis> axis_prior;
 };
 
 struct StraightWindowSummary {

@@ -366,6 +366,9 @@ class KeyframeOdometry {
       }
     }
     if (window.points.size() < 10) return;
+    if (cylinder && options_.axis_prior && window_axis_section_ == section) {
+      window.axis_prior = window_axis_world_;
+    }
     StraightWindowOptions window_options = options_.window;
     window_options.use_cylinder = cylinder;
     FisheyeWindowRecord record;
@@ -416,6 +419,8 @@ class KeyframeOdometry {
       axis_world_.point = world_from_first * axis.point;
       axis_world_.direction = world_from_first.linear() * axis.direction;
       axis_keyframe_ = last;
+      window_axis_world_ = axis_world_;  // the next window's prior
+      window_axis_section_ = section;
     }
     result_->windows.push_back(record);
   }
@@ -436,6 +441,10 @@ class KeyframeOdometry {
   PipeAxis axis_world_;                             // the current straight section's axis
   int axis_section_ = -1;
   int axis_keyframe_ = 0;  // key frame of the last applied window (or the section's start)
+  // The axis of the last applied window and its section (the prior of the next window there;
+  // axis_world_ may instead hold a per-step fit or the section's entry guess).
+  PipeAxis window_axis_world_;
+  int window_axis_section_ = -1;
 };
 
 void BuildSections(FisheyeMappingResult* result) {
