@@ -197,7 +197,10 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       current = mosaic_frame(band);
     }
     if (presmooth) {
-      cv::GaussianBlur(current, current, cv::Size(), options.presmooth_sigma_px);
+      // Into a new image: `current` may view the frame the image mosaic adds.
+      cv::Mat smoothed;
+      cv::GaussianBlur(current, smoothed, cv::Size(), options.presmooth_sigma_px);
+      current = smoothed;
     }
     result.preparing_seconds += stage.Lap();
     DenseFrameRecord record;
