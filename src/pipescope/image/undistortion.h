@@ -30,7 +30,7 @@ struct LineStretch {
 };
 
 struct UndistorterOptions {
-  LineStretch stretch;  // none by default
+  LineStretch stretch = {};  // none by default
   // > 1: tables for images block-averaged by this factor (a full-resolution pixel x is block
   // pixel (x + 0.5) / downsample - 0.5). Apply() then takes the block-mean image of a frame and
   // returns the rectified image at that resolution: what the full tables and a block mean

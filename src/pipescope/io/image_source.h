@@ -38,7 +38,7 @@ struct ImageSourceOptions {
   // When set, only the frames whose index it accepts are decoded and returned; the others are
   // passed over without decoding (a mosaic that needs one frame in dozens). Indices and
   // timestamps stay those of the whole sequence.
-  std::function<bool(std::size_t index)> wanted;
+  std::function<bool(std::size_t index)> wanted = {};
 };
 
 // Streams the frames of a dataset one at a time, so a 26 000-frame run holds one frame in
