@@ -252,7 +252,7 @@ int RunMap(const MapFlags& flags) {
                        {"last_keyframe", window.last_keyframe},
                        {"points", window.points},
                        {"cylinder", window.cylinder},
-                       {"rejected", window.rejected},
+                       {"rejected", !window.rejection.empty()},
                        {"rejection", window.rejection},
                        {"length_ratio", window.length_ratio},
                        {"observations", window.summary.observations},

@@ -35,15 +35,6 @@ double ImageRms(const Camera& camera, const StraightWindow& window) {
   return count > 0 ? std::sqrt(sum / count) : 0.0;
 }
 
-// Inlier observations of each point.
-std::vector<int> InlierCounts(const StraightWindow& window) {
-  std::vector<int> count(window.points.size(), 0);
-  for (const WindowObservation& observation : window.observations) {
-    if (observation.inlier) ++count[observation.point];
-  }
-  return count;
-}
-
 // RMS distance from the wall over the points the adjustment estimated (two or more inlier
 // observations); the others keep their start and say nothing about the solution.
 double CylinderRms(const StraightWindowOptions& options, const StraightWindow& window) {
@@ -76,6 +67,14 @@ void MoveWorldOrigin(const Eigen::Vector3d& origin, StraightWindow* window) {
 }
 
 }  // namespace
+
+std::vector<int> InlierCounts(const StraightWindow& window) {
+  std::vector<int> count(window.points.size(), 0);
+  for (const WindowObservation& observation : window.observations) {
+    if (observation.inlier) ++count[observation.point];
+  }
+  return count;
+}
 
 WindowPose WindowPose::FromIsometry(const Eigen::Isometry3d& cam_from_world) {
   WindowPose pose;

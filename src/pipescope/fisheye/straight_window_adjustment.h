@@ -87,4 +87,8 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
                                              const StraightWindowOptions& options,
                                              StraightWindow* window);
 
+// The inlier observations of each of the window's points: the adjustment estimates the points
+// with two or more; the others keep their start.
+std::vector<int> InlierCounts(const StraightWindow& window);
+
 }  // namespace pipescope

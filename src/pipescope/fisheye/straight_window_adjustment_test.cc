@@ -10,16 +10,12 @@
 
 #include "pipescope/fisheye/cylinder_axis_prior_error.h"
 #include "pipescope/fisheye/straight_cylinder_error.h"
+#include "pipescope/fisheye/straight_window_testing.h"
 
 namespace pipescope {
 namespace {
 
 constexpr double kRadius = 0.2;
-
-// The 001 lens: 190 degrees on 1280x960 (fisheye-poly, eq. 1).
-Camera FisheyeCamera() {
-  return Camera(CameraModelId::kFisheyePoly, 1280, 960, {290.0, -4.0, 0.0, 0.0, 639.5, 479.5});
-}
 
 struct SyntheticWindow {
   std::vector<Eigen::Isometry3d> true_cam_from_world;
@@ -36,21 +32,14 @@ struct WindowPlacement {
 // A camera moving 10 mm a key frame along a 400 mm pipe (axis = world Z) with some lateral
 // offset and tilt; wall points observed with 0.5 px noise; then poses and points perturbed.
 SyntheticWindow MakeWindow(std::uint64_t seed, const WindowPlacement& placement = {}) {
-  const Camera camera = FisheyeCamera();
+  const Camera camera = FisheyeTestCamera();
   SyntheticWindow s;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const int num_poses = 20;
   for (int c = 0; c < num_poses; ++c) {
-    const int k = placement.first_step + c;
-    Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
-    world_from_cam.linear() =
-        (Eigen::AngleAxisd(0.02 * std::sin(0.3 * k), Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(0.015, Eigen::Vector3d::UnitY()))
-            .toRotationMatrix();
-    world_from_cam.translation() = Eigen::Vector3d(0.01, -0.005, 0.01 * k);
-    s.true_cam_from_world.push_back(world_from_cam.inverse());
+    s.true_cam_from_world.push_back(WobblingCamFromWorld(placement.first_step + c, 0.01));
   }
   for (int k = 0; k < 400; ++k) {
     const double phi = 2.0 * M_PI * uniform(rng);
@@ -129,9 +118,9 @@ TEST(StraightWindowAdjustmentTest, CylinderTermReducesPoseErrorOfPerturbedWindow
   StraightWindowOptions options;
   options.radius_m = kRadius;
   const StraightWindowSummary summary =
-      OptimiseStraightWindow(FisheyeCamera(), options, &with_cylinder.window);
+      OptimiseStraightWindow(FisheyeTestCamera(), options, &with_cylinder.window);
   options.use_cylinder = false;
-  OptimiseStraightWindow(FisheyeCamera(), options, &without_cylinder.window);
+  OptimiseStraightWindow(FisheyeTestCamera(), options, &without_cylinder.window);
 
   const double error_with = MeanPositionError(with_cylinder);
   const double error_without = MeanPositionError(without_cylinder);
@@ -161,7 +150,8 @@ TEST(StraightWindowAdjustmentTest, MadRemovesGrossOutliers) {
   }
   StraightWindowOptions options;
   options.radius_m = kRadius;
-  const StraightWindowSummary summary = OptimiseStraightWindow(FisheyeCamera(), options, &s.window);
+  const StraightWindowSummary summary =
+      OptimiseStraightWindow(FisheyeTestCamera(), options, &s.window);
   int corrupted_kept = 0;
   for (std::size_t k = 0; k < s.window.observations.size(); k += 25) {
     corrupted_kept += s.window.observations[k].inlier ? 1 : 0;
@@ -183,7 +173,8 @@ TEST(StraightWindowAdjustmentTest, CylinderRmsCountsOnlyThePointsTheWindowEstima
   }
   StraightWindowOptions options;
   options.radius_m = kRadius;
-  const StraightWindowSummary summary = OptimiseStraightWindow(FisheyeCamera(), options, &s.window);
+  const StraightWindowSummary summary =
+      OptimiseStraightWindow(FisheyeTestCamera(), options, &s.window);
   EXPECT_LT(summary.cylinder_rms_m, 0.004);
   EXPECT_LT(MeanPositionError(s), 0.001);
 }
@@ -194,7 +185,7 @@ TEST(StraightWindowAdjustmentTest, AxisPriorHoldsTheHeadingOfADriftedWindow) {
   StraightWindowOptions options;
   options.radius_m = kRadius;
   SyntheticWindow previous = MakeWindow(7);
-  OptimiseStraightWindow(FisheyeCamera(), options, &previous.window);
+  OptimiseStraightWindow(FisheyeTestCamera(), options, &previous.window);
   const Eigen::Isometry3d world_from_previous = previous.window.poses[0].ToIsometry().inverse();
   const PipeAxis fitted = StraightCylinderAxis(previous.window.cylinder);
   PipeAxis axis_world;
@@ -212,8 +203,8 @@ TEST(StraightWindowAdjustmentTest, AxisPriorHoldsTheHeadingOfADriftedWindow) {
   const Eigen::Vector3d first_centre =
       with_prior.window.poses[0].ToIsometry().inverse().translation();
   const StraightWindowSummary summary =
-      OptimiseStraightWindow(FisheyeCamera(), options, &with_prior.window);
-  OptimiseStraightWindow(FisheyeCamera(), options, &free_cylinder.window);
+      OptimiseStraightWindow(FisheyeTestCamera(), options, &with_prior.window);
+  OptimiseStraightWindow(FisheyeTestCamera(), options, &free_cylinder.window);
   // The gauge is the first camera's centre, also when the prior turns that camera.
   EXPECT_LT((with_prior.window.poses[0].ToIsometry().inverse().translation() - first_centre).norm(),
             1e-9);

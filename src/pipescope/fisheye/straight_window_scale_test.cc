@@ -6,6 +6,7 @@
 #include <random>
 
 #include "pipescope/fisheye/straight_window_adjustment.h"
+#include "pipescope/fisheye/straight_window_testing.h"
 
 // Scale of the window adjustment (001 eq. 2-6) against ground truth on noisy synthetic wall
 // points: the radius alone fixes it, so a bias here would be a bias of every straight section.
@@ -21,23 +22,14 @@ struct ScaleCase {
 // A 50-key-frame window (10.8 mm steps, 400 mm pipe, tracks of 15 key frames), started 2 %
 // too long about the first camera; returns the adjusted path length over the true one.
 double AdjustedPathRatio(std::uint64_t seed, const ScaleCase& c) {
-  const Camera camera(CameraModelId::kFisheyePoly, 1280, 960,
-                      {290.0, -4.0, 0.0, 0.0, 639.5, 479.5});
+  const Camera camera = FisheyeTestCamera();
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const int num_poses = 50, num_points = 400;
   std::vector<Eigen::Isometry3d> truth;
   StraightWindow window;
-  for (int k = 0; k < num_poses; ++k) {
-    Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
-    world_from_cam.linear() =
-        (Eigen::AngleAxisd(0.02 * std::sin(0.3 * k), Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(0.015, Eigen::Vector3d::UnitY()))
-            .toRotationMatrix();
-    world_from_cam.translation() = Eigen::Vector3d(0.01, -0.005, 0.0108 * k);
-    truth.push_back(world_from_cam.inverse());
-  }
+  for (int k = 0; k < num_poses; ++k) truth.push_back(WobblingCamFromWorld(k, 0.0108));
   std::vector<Eigen::Vector3d> points;
   for (int p = 0; p < num_points; ++p) {
     const double phi = 2.0 * M_PI * uniform(rng);

@@ -397,15 +397,11 @@ class KeyframeOdometry {
       record.rejection = "step spread";
     }
     if (!record.rejection.empty()) {
-      record.rejected = true;
       result_->windows.push_back(record);
       return;
     }
     for (int k = first; k <= last; ++k) cam_from_world_[k] = adjusted[k - first];
-    std::vector<int> inliers(window.points.size(), 0);
-    for (const WindowObservation& observation : window.observations) {
-      inliers[observation.point] += observation.inlier ? 1 : 0;
-    }
+    const std::vector<int> inliers = InlierCounts(window);
     for (std::size_t p = 0; p < window_tracks.size(); ++p) {
       if (inliers[p] < 2) continue;  // not estimated by the window
       window_tracks[p]->point = window.points[p];

@@ -120,8 +120,9 @@ struct FisheyeWindowRecord {
   int last_keyframe = 0;
   int points = 0;
   bool cylinder = true;
-  bool rejected = false;      // not applied: not converged or degenerate
-  std::string rejection;      // why: "image rms", "cylinder rms", "path length", "step spread"
+  // Why the window was not applied (empty: applied): "image rms", "cylinder rms" (not
+  // converged), "path length", "step spread" (degenerate).
+  std::string rejection;
   double length_ratio = 1.0;  // adjusted / chained path length through the window
   StraightWindowSummary summary;
 };

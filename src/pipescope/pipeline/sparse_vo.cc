@@ -493,8 +493,8 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   }
 
   SparseVoResult result;
-  SparseOdometer odometer(camera, radius, start, effective,
-                          {&result.stage_seconds, &result.stage_cpu_seconds});
+  const StageTimes stage_times{&result.stage_seconds, &result.stage_cpu_seconds};
+  SparseOdometer odometer(camera, radius, start, effective, stage_times);
   std::vector<LocalisedFrame> localised;
   // The newest localised frame since the key frame: the next key frame when the span ends.
   struct Candidate {
@@ -542,10 +542,9 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     std::optional<Loaded> loaded = next.get();
     if (!loaded) break;
     next = std::async(policy, load);
-    const StageTimes times{&result.stage_seconds, &result.stage_cpu_seconds};
-    times.Add("read", loaded->wall[0], loaded->cpu[0]);
-    times.Add("features_harris", loaded->wall[1], loaded->cpu[1]);
-    times.Add("features_sift", loaded->wall[2], loaded->cpu[2]);
+    stage_times.Add("read", loaded->wall[0], loaded->cpu[0]);
+    stage_times.Add("features_harris", loaded->wall[1], loaded->cpu[1]);
+    stage_times.Add("features_sift", loaded->wall[2], loaded->cpu[2]);
     const Frame* frame = &loaded->frame;
     progress.Update(frame->index + 1);
     SparseFrameRecord record;
