@@ -172,7 +172,11 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
       problem.SetParameterBlockConstant(window->poses[0].translation);
     }
     ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+    // Once the points are eliminated, the reduced system over the window's poses and the
+    // cylinder is nearly dense (every point's cylinder term ties the first pose and the
+    // cylinder to every camera that sees it) and small (6 per pose): a dense Cholesky of it is
+    // cheaper than building and factoring a block-sparse one.
+    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
     solver_options.max_num_iterations = options.max_iterations_per_stage;
     solver_options.num_threads = options.num_threads;
     solver_options.logging_type = ceres::SILENT;
