@@ -193,6 +193,7 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
 
 int RunMap(const MapFlags& flags) {
   const Timer total;
+  const ProcessCpuTimer total_cpu;
   // Ceres logs each rejected Levenberg-Marquardt step of a badly conditioned window as a
   // warning; the window statistics in run.json say what matters.
   FLAGS_minloglevel = google::GLOG_ERROR;
@@ -226,6 +227,9 @@ int RunMap(const MapFlags& flags) {
   report.AddTiming("tracking", result.tracking_seconds);
   report.AddTiming("classification", result.classification_seconds);
   report.AddTiming("odometry", result.odometry_seconds);
+  report.AddTiming("tracking_cpu", result.tracking_cpu_seconds);
+  report.AddTiming("classification_cpu", result.classification_cpu_seconds);
+  report.AddTiming("odometry_cpu", result.odometry_cpu_seconds);
   nlohmann::json classification = nlohmann::json::array();
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     classification.push_back({{"frame", keyframe.frame_index},
@@ -296,6 +300,7 @@ int RunMap(const MapFlags& flags) {
   }
   const double seconds = total.ElapsedSeconds();
   report.AddTiming("total", seconds);
+  report.AddTiming("total_cpu", total_cpu.ElapsedSeconds());
   report.Extra("fps_end_to_end") = result.frames / std::max(1e-9, seconds);
   report.Write(staging.path() / "run.json");
   staging.Commit();

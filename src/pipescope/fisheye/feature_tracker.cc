@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pipescope/fisheye/median.h"
@@ -131,11 +132,24 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   const int matches_cosine = static_cast<int>(features.size());
   // ... the key frame's unmatched features are searched for by guided ZNCC ...
   if (options_.guided_matching) {
+    std::vector<std::size_t> unmatched;
     for (std::size_t i = 0; i < last_->features.size(); ++i) {
-      if (matched_i[i]) continue;
-      const TrackedFeature& feature = last_->features[i];
-      const GuidedMatch guided = GuidedZnccSearch(last_->grey, grey, feature.pixel, feature.bearing,
-                                                  pose.essential, bearings_, options_.guided);
+      if (!matched_i[i]) unmatched.push_back(i);
+    }
+    // The searches are independent (read-only images): spread over the cores, gathered in the
+    // key frame's feature order, so the result does not depend on the thread count.
+    std::vector<GuidedMatch> searches(unmatched.size());
+    cv::parallel_for_(
+        cv::Range(0, static_cast<int>(unmatched.size())), [&](const cv::Range& range) {
+          for (int u = range.start; u < range.end; ++u) {
+            const TrackedFeature& feature = last_->features[unmatched[u]];
+            searches[u] = GuidedZnccSearch(last_->grey, grey, feature.pixel, feature.bearing,
+                                           pose.essential, bearings_, options_.guided);
+          }
+        });
+    for (std::size_t u = 0; u < unmatched.size(); ++u) {
+      const TrackedFeature& feature = last_->features[unmatched[u]];
+      const GuidedMatch& guided = searches[u];
       if (!guided.found) continue;
       const int x = static_cast<int>(std::lround(guided.point_j.x));
       const int y = static_cast<int>(std::lround(guided.point_j.y));

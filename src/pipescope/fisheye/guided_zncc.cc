@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace pipescope {
 
@@ -58,6 +59,14 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   const int y1 = std::min(grey_j.rows - 1 - half, static_cast<int>(std::lround(point_i.y)) + r);
   if (x1 < x0 || y1 < y0) return match;
   cv::Mat scores(y1 - y0 + 1, x1 - x0 + 1, CV_32F, cv::Scalar(-2.f));
+  // The scored pixels (a band a few pixels wide across the box): the peak tests scan these
+  // instead of the whole box, where every other entry is -2.
+  struct Scored {
+    int x, y;
+    float score;
+  };
+  std::vector<Scored> scored;
+  scored.reserve(4 * (x1 - x0 + y1 - y0 + 2));
   const float n0 = static_cast<float>(normal.x());
   const float n1 = static_cast<float>(normal.y());
   const float n2 = static_cast<float>(normal.z());
@@ -95,6 +104,7 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
       if (variance <= 1e-6) continue;
       const float score = cross / static_cast<float>(std::sqrt(variance));
       scores.at<float>(y - y0, x - x0) = score;
+      scored.push_back({x, y, score});
       if (score > best) {
         best = score;
         best_x = x;
@@ -104,21 +114,17 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   }
   if (best_x < 0 || best < options.min_zncc) return match;
   float runner_up = -2.f;
-  for (int y = 0; y < scores.rows; ++y) {
-    for (int x = 0; x < scores.cols; ++x) {
-      if (std::abs(x + x0 - best_x) <= 1 && std::abs(y + y0 - best_y) <= 1) continue;
-      runner_up = std::max(runner_up, scores.at<float>(y, x));
-    }
+  for (const Scored& candidate : scored) {
+    if (std::abs(candidate.x - best_x) <= 1 && std::abs(candidate.y - best_y) <= 1) continue;
+    runner_up = std::max(runner_up, candidate.score);
   }
   // Neighbouring pixels of a smooth peak score almost as high; only a distinct second peak
   // counts, so compare with the best outside a 5x5 block instead when the 3x3 ring is high.
   if (best - runner_up < options.min_peak_margin) {
     float distinct = -2.f;
-    for (int y = 0; y < scores.rows; ++y) {
-      for (int x = 0; x < scores.cols; ++x) {
-        if (std::abs(x + x0 - best_x) <= 3 && std::abs(y + y0 - best_y) <= 3) continue;
-        distinct = std::max(distinct, scores.at<float>(y, x));
-      }
+    for (const Scored& candidate : scored) {
+      if (std::abs(candidate.x - best_x) <= 3 && std::abs(candidate.y - best_y) <= 3) continue;
+      distinct = std::max(distinct, candidate.score);
     }
     if (best - distinct < options.min_peak_margin) return match;
   }

@@ -6,8 +6,10 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
+#include <opencv2/core/utility.hpp>
 #include <random>
 
 namespace pipescope {
@@ -157,7 +159,6 @@ int RansacIterationsNeeded(int inliers, int n, double confidence) {
   return static_cast<int>(
       std::ceil(std::log(1.0 - confidence) / std::log(1.0 - all_inlier_probability + 1e-300)));
 }
-
 }  // namespace
 
 SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>& bearings_i,
@@ -183,29 +184,53 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
   std::mt19937_64 rng(options.seed);
   std::vector<int> all(n);
   std::iota(all.begin(), all.end(), 0);
-  std::vector<int> sample(8);
-  std::vector<char> inliers;
   int needed = result.num_inliers > 0
                    ? RansacIterationsNeeded(result.num_inliers, n, options.confidence)
                    : options.max_iterations;
-  int iteration = 0;
-  for (; iteration < std::max(needed, options.min_iterations) && iteration < options.max_iterations;
-       ++iteration) {
-    // Eight distinct indices (partial Fisher-Yates).
-    for (int k = 0; k < 8; ++k) {
-      std::uniform_int_distribution<int> pick(k, n - 1);
-      std::swap(all[k], all[pick(rng)]);
-      sample[k] = all[k];
-    }
+  const auto iterations_wanted = [&] {
+    return std::min(std::max(needed, options.min_iterations), options.max_iterations);
+  };
+  // Hypotheses are drawn in order from the one generator and scored in batches on all cores,
+  // then taken in draw order as the sequential loop would take them (stopping where it would
+  // stop): the same pose whatever the thread count.
+  struct Hypothesis {
+    bool valid = false;
     Eigen::Matrix3d essential;
-    if (!EssentialFromBearingsLinear(bearings_i, bearings_j, sample, &essential)) continue;
+    std::vector<char> inliers;
     int count = 0;
-    CountInliers(essential, bearings_i, bearings_j, options.inlier_threshold_rad, &inliers, &count);
-    if (count > result.num_inliers) {
-      result.num_inliers = count;
-      result.essential = essential;
-      result.inliers = inliers;
-      needed = RansacIterationsNeeded(count, n, options.confidence);
+  };
+  constexpr int kBatch = 64;
+  std::vector<std::array<int, 8>> samples(kBatch);
+  std::vector<Hypothesis> hypotheses(kBatch);
+  int iteration = 0;
+  while (iteration < iterations_wanted()) {
+    const int batch = std::min(kBatch, iterations_wanted() - iteration);
+    for (int b = 0; b < batch; ++b) {
+      // Eight distinct indices (partial Fisher-Yates).
+      for (int k = 0; k < 8; ++k) {
+        std::uniform_int_distribution<int> pick(k, n - 1);
+        std::swap(all[k], all[pick(rng)]);
+        samples[b][k] = all[k];
+      }
+    }
+    cv::parallel_for_(cv::Range(0, batch), [&](const cv::Range& range) {
+      for (int b = range.start; b < range.end; ++b) {
+        Hypothesis& hypothesis = hypotheses[b];
+        hypothesis.valid = EssentialFromBearingsLinear(
+            bearings_i, bearings_j, std::vector<int>(samples[b].begin(), samples[b].end()),
+            &hypothesis.essential);
+        if (!hypothesis.valid) continue;
+        CountInliers(hypothesis.essential, bearings_i, bearings_j, options.inlier_threshold_rad,
+                     &hypothesis.inliers, &hypothesis.count);
+      }
+    });
+    for (int b = 0; b < batch && iteration < iterations_wanted(); ++b, ++iteration) {
+      const Hypothesis& hypothesis = hypotheses[b];
+      if (!hypothesis.valid || hypothesis.count <= result.num_inliers) continue;
+      result.num_inliers = hypothesis.count;
+      result.essential = hypothesis.essential;
+      result.inliers = hypothesis.inliers;
+      needed = RansacIterationsNeeded(hypothesis.count, n, options.confidence);
     }
   }
   result.iterations = iteration;

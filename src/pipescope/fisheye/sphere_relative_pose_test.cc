@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <opencv2/core/utility.hpp>
 #include <random>
 
 namespace pipescope {
@@ -147,6 +149,80 @@ TEST(SphereRelativePoseTest, MotionPriorFindsThePoseAmongMostlyWrongMatches) {
   EXPECT_GT(with.translation.dot(scene.translation.normalized()), std::cos(2.0 * kPi / 180.0));
   EXPECT_GT(with.num_inliers, 0.9 * 75);
   EXPECT_GT(with.num_inliers, without.num_inliers);
+}
+
+// The RANSAC loop scores its hypotheses on all cores; it must still stop where, and keep the
+// hypothesis that, the plain sequential loop does. The oracle is that loop written out with the
+// same generator and eight-point solver. 30 % of the matches are wrong and the motion prior is
+// 0.2 degrees off, so random samples beat it and the loop stops inside a batch.
+TEST(SphereRelativePoseTest, ParallelRansacTakesTheSequentialLoopsHypothesis) {
+  const SphereScene scene = MakeScene(/*noise_rad=*/0.001, /*outlier_fraction=*/0.3, 11);
+  SphereRelativePoseOptions options;
+  options.refine = false;  // the RANSAC winner's inliers are then returned as they are
+  const Eigen::Matrix3d prior_rotation =
+      Eigen::AngleAxisd(0.0035, Eigen::Vector3d::UnitY()).toRotationMatrix() * scene.rotation;
+  const Eigen::Vector3d prior_translation = scene.translation.normalized();
+  Eigen::Matrix3d skew;
+  skew << 0, -prior_translation.z(), prior_translation.y(), prior_translation.z(), 0,
+      -prior_translation.x(), -prior_translation.y(), prior_translation.x(), 0;
+  const Eigen::Matrix3d prior = skew * prior_rotation;
+
+  const int n = static_cast<int>(scene.bearings_i.size());
+  const auto count_inliers = [&](const Eigen::Matrix3d& essential, std::vector<char>* inliers) {
+    inliers->assign(n, 0);
+    int count = 0;
+    for (int m = 0; m < n; ++m) {
+      (*inliers)[m] = SphereEpipolarError(essential, scene.bearings_i[m], scene.bearings_j[m]) <
+                      options.inlier_threshold_rad;
+      count += (*inliers)[m];
+    }
+    return count;
+  };
+  const auto samples_needed = [&](int inliers) {
+    return static_cast<int>(
+        std::ceil(std::log(1.0 - options.confidence) /
+                  std::log(1.0 - std::pow(static_cast<double>(inliers) / n, 8))));
+  };
+  std::vector<char> best_inliers;
+  int best = count_inliers(prior, &best_inliers);
+  // Above 10 % inliers the sample count fits an int.
+  ASSERT_GT(best, n / 10);
+  int needed = samples_needed(best), iteration = 0, improvements = 0;
+  std::mt19937_64 rng(options.seed);
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<int> sample(8);
+  std::vector<char> inliers;
+  for (; iteration < std::max(needed, options.min_iterations) && iteration < options.max_iterations;
+       ++iteration) {
+    for (int k = 0; k < 8; ++k) {
+      std::uniform_int_distribution<int> pick(k, n - 1);
+      std::swap(all[k], all[pick(rng)]);
+      sample[k] = all[k];
+    }
+    Eigen::Matrix3d essential;
+    if (!EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, sample, &essential)) {
+      continue;
+    }
+    const int count = count_inliers(essential, &inliers);
+    if (count <= best) continue;
+    best = count;
+    best_inliers = inliers;
+    needed = samples_needed(best);
+    ++improvements;
+  }
+  ASSERT_GE(improvements, 1);
+  ASSERT_LT(iteration, options.max_iterations);  // stopped by the confidence
+  ASSERT_NE(iteration % 64, 0);                  // not at the end of a batch of 64
+  for (int threads : {1, 2}) {
+    cv::setNumThreads(threads);
+    const SphereRelativePose pose =
+        EstimateSphereRelativePose(scene.bearings_i, scene.bearings_j, options, {prior});
+    EXPECT_EQ(pose.iterations, iteration) << threads << " threads";
+    EXPECT_EQ(pose.num_inliers, best) << threads << " threads";
+    EXPECT_EQ(pose.inliers, best_inliers) << threads << " threads";
+  }
+  cv::setNumThreads(-1);
 }
 
 TEST(SphereRelativePoseTest, TooFewCorrespondencesFail) {

@@ -1,8 +1,10 @@
 #include "pipescope/fisheye/straight_window_adjustment.h"
 
 #include <ceres/ceres.h>
+#include <ceres/product_manifold.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "pipescope/fisheye/cylinder_axis_prior_error.h"
@@ -23,6 +25,28 @@ Eigen::Vector2d Residual(const Camera& camera, const StraightWindow& window,
   error(pose.rotation, pose.translation, window.points[observation.point].data(), residual);
   return Eigen::Vector2d(residual[0], residual[1]);
 }
+
+// Eq. 3 on a pose held as one block: quaternion (w, x, y, z), then translation.
+class PoseBlockReprojectionError {
+ public:
+  PoseBlockReprojectionError(CameraModelId model_id, const std::vector<double>& params,
+                             const Eigen::Vector2d& observed)
+      : error_(model_id, params, observed) {}
+
+  template <typename T>
+  bool operator()(const T* cam_from_world, const T* point_world, T* residual) const {
+    return error_(cam_from_world, cam_from_world + 4, point_world, residual);
+  }
+
+  static ceres::CostFunction* Create(CameraModelId model_id, const std::vector<double>& params,
+                                     const Eigen::Vector2d& observed) {
+    return new ceres::AutoDiffCostFunction<PoseBlockReprojectionError, 2, 7, 3>(
+        new PoseBlockReprojectionError(model_id, params, observed));
+  }
+
+ private:
+  FisheyeReprojectionError error_;
+};
 
 double ImageRms(const Camera& camera, const StraightWindow& window) {
   double sum = 0.0;
@@ -134,14 +158,32 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     ceres::QuaternionManifold quaternion_manifold;
+    ceres::ProductManifold<ceres::QuaternionManifold, ceres::EuclideanManifold<3>> pose_manifold;
+    // Every pose after the first is one 7-parameter block (the first keeps its rotation and
+    // translation apart for the gauge and the cylinder terms): the Schur elimination then
+    // updates (m + 4)^2 cells of the reduced system per point seen m times instead of
+    // (2m + 3)^2, and locks as many mutexes.
+    std::vector<std::array<double, 7>> pose_blocks(window->poses.size());
+    for (std::size_t k = 1; k < window->poses.size(); ++k) {
+      std::copy(window->poses[k].rotation, window->poses[k].rotation + 4, pose_blocks[k].begin());
+      std::copy(window->poses[k].translation, window->poses[k].translation + 3,
+                pose_blocks[k].begin() + 4);
+    }
     const std::vector<int> observation_count = InlierCounts(*window);
     for (const WindowObservation& observation : window->observations) {
       if (!observation.inlier || observation_count[observation.point] < 2) continue;
-      WindowPose& pose = window->poses[observation.pose];
-      problem.AddResidualBlock(
-          FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), observation.pixel),
-          new ceres::HuberLoss(options.huber_px), pose.rotation, pose.translation,
-          window->points[observation.point].data());
+      double* point = window->points[observation.point].data();
+      ceres::LossFunction* loss = new ceres::HuberLoss(options.huber_px);
+      if (observation.pose == 0) {
+        WindowPose& pose = window->poses[0];
+        problem.AddResidualBlock(
+            FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), observation.pixel),
+            loss, pose.rotation, pose.translation, point);
+      } else {
+        problem.AddResidualBlock(PoseBlockReprojectionError::Create(
+                                     camera.ModelId(), camera.Params(), observation.pixel),
+                                 loss, pose_blocks[observation.pose].data(), point);
+      }
     }
     if (options.use_cylinder) {
       for (std::size_t k = 0; k < window->points.size(); ++k) {
@@ -160,9 +202,12 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
             nullptr, window->cylinder, window->poses[0].rotation, window->poses[0].translation);
       }
     }
-    for (WindowPose& pose : window->poses) {
-      if (problem.HasParameterBlock(pose.rotation)) {
-        problem.SetManifold(pose.rotation, &quaternion_manifold);
+    if (problem.HasParameterBlock(window->poses[0].rotation)) {
+      problem.SetManifold(window->poses[0].rotation, &quaternion_manifold);
+    }
+    for (std::size_t k = 1; k < pose_blocks.size(); ++k) {
+      if (problem.HasParameterBlock(pose_blocks[k].data())) {
+        problem.SetManifold(pose_blocks[k].data(), &pose_manifold);
       }
     }
     if (problem.HasParameterBlock(window->poses[0].rotation)) {
@@ -172,12 +217,20 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
       problem.SetParameterBlockConstant(window->poses[0].translation);
     }
     ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+    // Once the points are eliminated, the reduced system over the window's poses and the
+    // cylinder is nearly dense (every point's cylinder term ties the first pose and the
+    // cylinder to every camera that sees it) and small (6 per pose): a dense Cholesky of it is
+    // cheaper than building and factoring a block-sparse one.
+    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
     solver_options.max_num_iterations = options.max_iterations_per_stage;
     solver_options.num_threads = options.num_threads;
     solver_options.logging_type = ceres::SILENT;
     ceres::Solver::Summary solver_summary;
     ceres::Solve(solver_options, &problem, &solver_summary);
+    for (std::size_t k = 1; k < window->poses.size(); ++k) {
+      std::copy(pose_blocks[k].begin(), pose_blocks[k].begin() + 4, window->poses[k].rotation);
+      std::copy(pose_blocks[k].begin() + 4, pose_blocks[k].end(), window->poses[k].translation);
+    }
 
     if (stage + 1 >= options.stages) break;
     // Median absolute deviation of the signed Huber-weighted errors (both components).

@@ -1,5 +1,6 @@
 #include "pipescope/fisheye/template_descriptor.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace pipescope {
@@ -8,18 +9,21 @@ cv::Mat ComputeTemplateDescriptors(const cv::Mat& grey, const std::vector<cv::Po
                                    const TemplateDescriptorOptions& options) {
   const int dim = options.descriptor_size * options.descriptor_size;
   cv::Mat descriptors(static_cast<int>(points.size()), dim, CV_32F);
-  cv::Mat region, small;
-  for (int k = 0; k < static_cast<int>(points.size()); ++k) {
-    cv::getRectSubPix(grey, cv::Size(options.region_size_px, options.region_size_px), points[k],
-                      region, CV_32F);
-    cv::resize(region, small, cv::Size(options.descriptor_size, options.descriptor_size), 0, 0,
-               cv::INTER_AREA);
-    cv::Mat row = descriptors.row(k);
-    small.reshape(1, 1).copyTo(row);
-    if (options.subtract_mean) row -= cv::mean(row)[0];
-    const double norm = cv::norm(row);
-    if (norm > 0) row /= norm;
-  }
+  // Each row depends on its point alone: rows are filled on all cores.
+  cv::parallel_for_(cv::Range(0, static_cast<int>(points.size())), [&](const cv::Range& range) {
+    cv::Mat region, small;
+    for (int k = range.start; k < range.end; ++k) {
+      cv::getRectSubPix(grey, cv::Size(options.region_size_px, options.region_size_px), points[k],
+                        region, CV_32F);
+      cv::resize(region, small, cv::Size(options.descriptor_size, options.descriptor_size), 0, 0,
+                 cv::INTER_AREA);
+      cv::Mat row = descriptors.row(k);
+      small.reshape(1, 1).copyTo(row);
+      if (options.subtract_mean) row -= cv::mean(row)[0];
+      const double norm = cv::norm(row);
+      if (norm > 0) row /= norm;
+    }
+  });
   return descriptors;
 }
 

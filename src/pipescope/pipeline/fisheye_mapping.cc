@@ -498,10 +498,12 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   while (std::optional<Frame> frame = source->Next()) {
     ++result.frames;
     const int index = static_cast<int>(frame->index);
-    Timer timer;
+    const Timer timer;
+    const ProcessCpuTimer cpu_timer;
     TrackedKeyframe keyframe;
     const TrackingStep step = tracker.Track(frame->grey, index, &keyframe);
     result.tracking_seconds += timer.ElapsedSeconds();
+    result.tracking_cpu_seconds += cpu_timer.ElapsedSeconds();
     progress.Update(static_cast<std::size_t>(result.frames));
     if (!step.usable) {
       result.failed_frames.push_back({index, frame->name, step.failure});
@@ -516,8 +518,10 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
     usable_frames.emplace_back(index, frame->timestamp);
     if (!step.keyframe) continue;
     const Timer classify_timer;
+    const ProcessCpuTimer classify_cpu_timer;
     const PipeViewMeasurement measurement = classifier.Classify(frame->grey);
     result.classification_seconds += classify_timer.ElapsedSeconds();
+    result.classification_cpu_seconds += classify_cpu_timer.ElapsedSeconds();
     FisheyeKeyframe record;
     record.frame_index = index;
     record.timestamp = frame->timestamp;
@@ -544,8 +548,10 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   BuildSections(&result);
 
   const Timer odometry_timer;
+  const ProcessCpuTimer odometry_cpu_timer;
   KeyframeOdometry(camera, options, tracked, &result).Run();
   result.odometry_seconds = odometry_timer.ElapsedSeconds();
+  result.odometry_cpu_seconds = odometry_cpu_timer.ElapsedSeconds();
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     result.keyframe_trajectory.push_back(
         ToStampedPose(keyframe.timestamp, keyframe.world_from_cam));

@@ -149,9 +149,15 @@ struct FisheyeMappingResult {
   std::vector<std::string> unreadable_frames;
   int frames = 0;
   int tracking_resets = 0;
+  // Wall seconds of each stage, and CPU seconds of the whole process over it (every thread:
+  // the image read-ahead, OpenCV's and Ceres' workers), which load on a shared machine does not
+  // change.
   double tracking_seconds = 0.0;
   double classification_seconds = 0.0;
   double odometry_seconds = 0.0;
+  double tracking_cpu_seconds = 0.0;
+  double classification_cpu_seconds = 0.0;
+  double odometry_cpu_seconds = 0.0;
 };
 
 FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
