@@ -13,8 +13,10 @@
 #   BUILD_DIR holds bench/fisheye_colmap_camera and, unless PIPESCOPE=FILE names another build's
 #   program, pipescope. Finished stages are kept and not run again (delete OUT_DIR/<name>-colmap
 #   or <name>-pipescope to redo them). Environment: MAX_ANGLE_DEG (85), OVERLAP (sequential
-#   matcher, 10), MAX_FEATURES (SIFT features an image, 4096), THREADS (1, for each COLMAP stage),
-#   STAGE_TIMEOUT (seconds a stage may take, 3600).
+#   matcher, 10), MAX_FEATURES (SIFT features an image, 4096), PEAK_THRESHOLD (SIFT's, COLMAP's
+#   0.0067; lower finds features on the weakly textured stretches), THREADS (1, for each COLMAP
+#   stage), STAGE_TIMEOUT (seconds a stage may take, 3600), TAG (a suffix for COLMAP's directory,
+#   to keep runs with other options apart).
 set -euo pipefail
 BUILD_DIR=${1:?usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head]}
 OUT=${2:?usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head]}
@@ -25,6 +27,7 @@ MAX_ANGLE_DEG=${MAX_ANGLE_DEG:-85}
 OVERLAP=${OVERLAP:-10}
 MAX_FEATURES=${MAX_FEATURES:-4096}
 THREADS=${THREADS:-1}
+PEAK_THRESHOLD=${PEAK_THRESHOLD:-0.0066666666666666671}
 STAGE_TIMEOUT=${STAGE_TIMEOUT:-3600}
 case "$WHICH" in straight | head) ;; *)
   echo "unknown subset '$WHICH' (expected straight or head)" >&2
@@ -52,7 +55,7 @@ if [ "$WHICH" = head ]; then
   D=$OUT/straight-head
   [ -f "$D/groundtruth.tum" ] || link_straight_head "$OUT"
 fi
-C=$D-colmap
+C=$D-colmap${TAG:+-$TAG}
 R=$D-pipescope
 mkdir -p "$C"
 
@@ -84,7 +87,8 @@ run_stage feature_extractor colmap feature_extractor --database_path "$C/databas
   --image_path "$D/images" --ImageReader.mask_path "$C/masks" \
   --ImageReader.camera_model OPENCV_FISHEYE --ImageReader.single_camera 1 \
   --ImageReader.camera_params "$PARAMS" --SiftExtraction.use_gpu 0 \
-  --SiftExtraction.num_threads "$THREADS" --SiftExtraction.max_num_features "$MAX_FEATURES"
+  --SiftExtraction.num_threads "$THREADS" --SiftExtraction.max_num_features "$MAX_FEATURES" \
+  --SiftExtraction.peak_threshold "$PEAK_THRESHOLD"
 run_stage sequential_matcher colmap sequential_matcher --database_path "$C/database.db" \
   --SiftMatching.use_gpu 0 --SiftMatching.num_threads "$THREADS" \
   --SequentialMatching.overlap "$OVERLAP" --SequentialMatching.loop_detection 0
