@@ -140,10 +140,14 @@ for images_txt in glob.glob(os.path.join(out, "sparse", "*", "images.txt")):
         poses.append((times[index[f[9]]], centre, q))
     models.append(sorted(poses))
 models.sort(key=len, reverse=True)
-with open(os.path.join(out, "colmap.tum"), "w") as tum:
-    tum.write("# COLMAP's largest model, world_from_cam: timestamp tx ty tz qx qy qz qw\n")
-    for t, c, q in models[0] if models else []:
-        tum.write(f"{t:.9f} {c[0]:.9g} {c[1]:.9g} {c[2]:.9g} {q[0]:.9g} {q[1]:.9g} {q[2]:.9g} {q[3]:.9g}\n")
+# colmap.tum is the largest model; colmap_model_K.tum the K-th largest (each has its own scale).
+for k, poses in enumerate(models):
+    for name in ["colmap.tum"] * (k == 0) + [f"colmap_model_{k}.tum"]:
+        with open(os.path.join(out, name), "w") as tum:
+            tum.write(f"# COLMAP's model {k} by size, world_from_cam: timestamp tx ty tz qx qy qz qw\n")
+            for t, c, q in poses:
+                tum.write(f"{t:.9f} {c[0]:.9g} {c[1]:.9g} {c[2]:.9g} "
+                          f"{q[0]:.9g} {q[1]:.9g} {q[2]:.9g} {q[3]:.9g}\n")
 with open(os.path.join(out, "models.txt"), "w") as f:
     f.write(f"frames {len(names)}\nmodels {len(models)}\nsizes {' '.join(str(len(m)) for m in models)}\n")
 PY
@@ -154,12 +158,23 @@ if [ ! -f "$R/run.json" ]; then
   /usr/bin/time -f "%e %U %S" -o "$R.cpu" timeout "$STAGE_TIMEOUT" "$P" map "$D" --out "$R" -q \
     >/dev/null
 fi
-if [ -s "$C/colmap.tum" ] && [ "$(grep -vc '^#' "$C/colmap.tum")" -ge 2 ]; then
-  "$P" evaluate --gt "$D/groundtruth.tum" --est "$C/colmap.tum" --align sim3 \
-    --json "$C/metrics_sim3.json" -q >/dev/null
+evaluate_sim3() { # EST.tum JSON: skipped for fewer than 2 poses, which evaluate refuses
+  if [ -s "$1" ] && [ "$(grep -vc '^#' "$1")" -ge 2 ]; then
+    "$P" evaluate --gt "$D/groundtruth.tum" --est "$1" --align sim3 --json "$2" -q >/dev/null
+  fi
+}
+for est in "$C"/colmap_model_*.tum; do
+  [ -f "$est" ] && evaluate_sim3 "$est" "${est%.tum}_sim3.json"
+done
+evaluate_sim3 "$C/colmap.tum" "$C/metrics_sim3.json"
+evaluate_sim3 "$R/trajectory.tum" "$R/metrics_sim3.json"
+# pipescope on exactly the frames of COLMAP's largest model, so the two ATEs cover the same path.
+if [ -f "$C/colmap.tum" ]; then
+  awk 'NR == FNR { if ($1 !~ /^#/) keep[sprintf("%.6f", $1)] = 1; next }
+       /^#/ || (sprintf("%.6f", $1) in keep)' "$C/colmap.tum" "$R/trajectory.tum" \
+    >"$C/pipescope_same_frames.tum"
+  evaluate_sim3 "$C/pipescope_same_frames.tum" "$C/pipescope_same_frames_sim3.json"
 fi
-"$P" evaluate --gt "$D/groundtruth.tum" --est "$R/trajectory.tum" --align sim3 \
-  --json "$R/metrics_sim3.json" -q >/dev/null
 
 python3 - "$C" "$R" <<'PY'
 import json, os, sys
@@ -188,6 +203,17 @@ if os.path.exists(path):
     print(f"  after Sim(3): ate_rmse_m {m['ate_rmse_m']:.4f}, ate_max_m {m['ate_max_m']:.4f}, "
           f"scale {m['scale']:.5g}, distance gt {m['distance_gt_m']:.3f} m, error after scale "
           f"{scaled_distance_error(m):.2f} %, rpe_1m_pct {m['rpe_1m_pct']}")
+k = 0
+while os.path.exists(os.path.join(colmap, f"colmap_model_{k}_sim3.json")):
+    m = json.load(open(os.path.join(colmap, f"colmap_model_{k}_sim3.json")))
+    print(f"  model {k}: {m['frames_est']} frames, ate_rmse_m {m['ate_rmse_m']:.4f}, "
+          f"distance gt {m['distance_gt_m']:.3f} m, error after scale {scaled_distance_error(m):.2f} %")
+    k += 1
+path = os.path.join(colmap, "pipescope_same_frames_sim3.json")
+if os.path.exists(path):
+    m = json.load(open(path))
+    print(f"  pipescope on the largest model's frames ({m['frames_matched']} matched), after "
+          f"Sim(3): ate_rmse_m {m['ate_rmse_m']:.4f}, error after scale {scaled_distance_error(m):.2f} %")
 print("  wall clock / CPU: " + ", ".join(f"{s} {t[0]:.0f} / {t[1]:.0f} s" for s, t in times.items())
       + f", total {wall:.0f} / {cpu:.0f} s ({frames / wall:.3f} frames/s wall, "
       f"{frames / cpu:.3f} frames/CPU-s)")
