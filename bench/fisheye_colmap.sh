@@ -202,7 +202,7 @@ if os.path.exists(path):
     m = json.load(open(path))
     print(f"  after Sim(3): ate_rmse_m {m['ate_rmse_m']:.4f}, ate_max_m {m['ate_max_m']:.4f}, "
           f"scale {m['scale']:.5g}, distance gt {m['distance_gt_m']:.3f} m, error after scale "
-          f"{scaled_distance_error(m):.2f} %, rpe_1m_pct {m['rpe_1m_pct']}")
+          f"{scaled_distance_error(m):.2f} %")  # rpe_1m_pct would be in COLMAP's unit
 k = 0
 while os.path.exists(os.path.join(colmap, f"colmap_model_{k}_sim3.json")):
     m = json.load(open(os.path.join(colmap, f"colmap_model_{k}_sim3.json")))
