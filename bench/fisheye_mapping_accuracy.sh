@@ -16,14 +16,8 @@ P=$BUILD_DIR/pipescope
 CONFIG_FLAGS=()
 if [ -n "${CONFIG:-}" ]; then CONFIG_FLAGS=(--config "$CONFIG"); fi
 mkdir -p "$OUT"
-simulate() {  # name, frames, extra --set flags
-  local name=$1 frames=$2
-  shift 2
-  if [ ! -f "$OUT/$name/dataset.yaml" ]; then
-    "$P" simulate --preset fiberglass-network --frames "$frames" --set speed_m_s=0.075 \
-      --set speed_variation=0.05 "$@" --out "$OUT/$name" -q
-  fi
-}
+source "$(dirname "$0")/fisheye_datasets.sh"
+simulate() { simulate_fisheye "$P" "$OUT" "$@"; } # name, frames, extra --set flags
 report() {  # run directory
   python3 - "$1" <<'PY'
 import json, sys
@@ -43,21 +37,15 @@ print(f"  whole run: distance_error_pct {m['distance_error_pct']}, ate_rmse_m {m
 PY
 }
 if [ "$WHICH" = head ]; then
-  simulate straight 850 --set layout=straight --set length_m=9
+  simulate_straight "$P" "$OUT"
+  link_straight_head "$OUT"
   H=$OUT/straight-head
-  mkdir -p "$H/images"
-  for f in $(ls "$OUT/straight/images" | head -340); do
-    ln -sf "$OUT/straight/images/$f" "$H/images/$f"
-  done
-  cp "$OUT/straight/dataset.yaml" "$OUT/straight/camera.yaml" "$OUT/straight/scene.yaml" \
-    "$OUT/straight/gain_mask.png" "$H/"
-  head -341 "$OUT/straight/groundtruth.tum" >"$H/groundtruth.tum" # a comment line, 340 poses
   "$P" map "$H" --out "$OUT/straight-head-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
   report "$OUT/straight-head-run"
   exit 0
 fi
 if [ "$WHICH" != network ]; then
-  simulate straight 850 --set layout=straight --set length_m=9
+  simulate_straight "$P" "$OUT"
   "$P" map "$OUT/straight" --out "$OUT/straight-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
   report "$OUT/straight-run"
 fi
