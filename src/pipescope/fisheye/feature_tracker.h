@@ -35,10 +35,10 @@ struct FeatureTrackerOptions {
   bool guided_matching = true;
   // No features farther than this from the optical axis. The lens sees to 95 degrees (001:
   // 190), but past about 80 degrees the wall lies within 3.5 cm of the lens in a 400 mm pipe, a
-  // 1 cm key-frame step changes its view by tens of pixels, and those corners made RANSAC fail:
-  // on the 8.4 m straight benchmark 95 degrees gave 6 unusable frames, a tracking reset and
-  // -1.34 %; 80 degrees none and the figures in docs/fisheye_mapping.md ("View angle").
-  double max_view_angle_deg = 80.0;
+  // 1 cm key-frame step changes its view by tens of pixels, and those corners made RANSAC fail.
+  // On the 8.4 m straight benchmark: 95 degrees -1.34 % with 6 unusable frames and a tracking
+  // reset, 80 degrees -0.40 %, 70 degrees -0.06 % (docs/fisheye_mapping.md, "View angle").
+  double max_view_angle_deg = 70.0;
   // Key frame when the median flow to the last key frame reaches this ...
   double min_median_flow_px = 10.0;
   // ... or the corresponding fraction of the key frame's features falls below this (001: "both

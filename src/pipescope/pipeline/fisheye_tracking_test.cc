@@ -42,7 +42,7 @@ TEST(FisheyeTracking, FeaturesStayWithinTheViewAngle) {
   const Simulation simulation(config);
 
   const FeatureTrackerOptions defaults;
-  EXPECT_EQ(defaults.max_view_angle_deg, 80.0);
+  EXPECT_EQ(defaults.max_view_angle_deg, 70.0);
   const double largest = LargestFeatureAngleDeg(simulation, defaults);
   EXPECT_LE(largest, defaults.max_view_angle_deg + 1e-9);
   // The limit binds, not the texture; the 31 x 31 descriptor region keeps corners about 6
