@@ -35,9 +35,9 @@ struct FeatureTrackerOptions {
   bool guided_matching = true;
   // No features farther than this from the optical axis. The lens sees to 95 degrees (001:
   // 190), but past about 80 degrees the wall lies within 3.5 cm of the lens in a 400 mm pipe, a
-  // 1 cm key-frame step changes its view by tens of pixels, and those corners made RANSAC fail.
-  // On the 8.4 m straight benchmark: 95 degrees -1.34 % with 6 unusable frames and a tracking
-  // reset, 80 degrees -0.40 %, 70 degrees -0.06 % (docs/fisheye_mapping.md, "View angle").
+  // 1 cm key-frame step changes its view by tens of pixels. On the 8.4 m straight benchmark:
+  // 95 degrees -1.34 % with 6 frames RANSAC could not match and a tracking reset, 80 degrees
+  // -0.40 %, 70 degrees -0.06 %, no failures (docs/fisheye_mapping.md, "View angle").
   double max_view_angle_deg = 70.0;
   // Key frame when the median flow to the last key frame reaches this ...
   double min_median_flow_px = 10.0;
