@@ -107,6 +107,7 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   report.SetCount("points", static_cast<long long>(result.points.size()));
   report.SetCount("refinements", result.refinements);
   report.SetCount("window_adjustments", result.window_adjustments);
+  report.SetCount("revisits", result.revisits);
   report.AddTiming("odometry", result.odometry_seconds);
   report.AddTiming("odometry_cpu", result.odometry_cpu_seconds);
   for (const auto& [stage, seconds] : result.stage_seconds) {

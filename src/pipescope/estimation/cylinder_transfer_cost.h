@@ -117,4 +117,31 @@ class CrossSectionSmoothnessCost {
   double sigma_m_;
 };
 
+// A prior on the camera's place in the cross-section (beyond 000): a crawler is centred in the
+// pipe by its wheels, so the camera stays within millimetres of where it was mounted, which is
+// what the dense methods assume exactly (000 eq. 19). Residuals (C - anchor)_{x,y} / sigma. It
+// holds the level of the wall distance, which the window adjustment sees only through the
+// wall's curvature and which otherwise wanders (docs/sparse_vo.md, steel-16in).
+class CrossSectionAnchorCost {
+ public:
+  CrossSectionAnchorCost(const Eigen::Vector2d& anchor_xy, double sigma_m)
+      : anchor_xy_(anchor_xy), sigma_m_(sigma_m) {}
+
+  template <typename T>
+  bool operator()(const T* p, T* residual) const {
+    residual[0] = (p[0] - anchor_xy_.x()) / sigma_m_;
+    residual[1] = (p[1] - anchor_xy_.y()) / sigma_m_;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector2d& anchor_xy, double sigma_m) {
+    return new ceres::AutoDiffCostFunction<CrossSectionAnchorCost, 2, 3>(
+        new CrossSectionAnchorCost(anchor_xy, sigma_m));
+  }
+
+ private:
+  Eigen::Vector2d anchor_xy_;
+  double sigma_m_;
+};
+
 }  // namespace pipescope

@@ -50,6 +50,14 @@ WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
           positions[b - 1].data(), positions[b].data());
     }
   }
+  if (options.cross_section_anchor_sigma_m > 0.0) {
+    for (std::size_t a = 0; a < count; ++a) {
+      if ((*key_frames)[a].fixed || !problem.HasParameterBlock(positions[a].data())) continue;
+      problem.AddResidualBlock(CrossSectionAnchorCost::Create(options.cross_section_anchor_xy,
+                                                              options.cross_section_anchor_sigma_m),
+                               nullptr, positions[a].data());
+    }
+  }
   for (std::size_t a = 0; a < count; ++a) {
     if (!problem.HasParameterBlock(rotations[a].data())) continue;
     problem.SetManifold(rotations[a].data(), new ceres::EigenQuaternionManifold);

@@ -28,6 +28,10 @@ struct WindowAdjustmentOptions {
   bool hold_first_cross_section = false;
   // Sigma (metres) of CrossSectionSmoothnessCost between consecutive key frames; 0: none.
   double cross_section_step_sigma_m = 0.0;
+  // Sigma (metres) of CrossSectionAnchorCost on every free key frame, pulling its C_X, C_Y
+  // towards cross_section_anchor_xy (the measured start); 0: none.
+  double cross_section_anchor_sigma_m = 0.0;
+  Eigen::Vector2d cross_section_anchor_xy = Eigen::Vector2d::Zero();
 };
 
 struct WindowKeyFrame {

@@ -115,5 +115,38 @@ TEST(AdjustWindow, CrossSectionPriorPullsConsecutiveKeyFramesTogether) {
   EXPECT_LT(last_step_across(stiff), 0.00002);
 }
 
+// The cross-section anchor: key frames truly 1 mm nearer the wall than the anchor, seen exactly.
+// A loose anchor keeps the truth; a stiff one puts every free key frame's C_X, C_Y on the anchor
+// (only the prior can: the reprojections alone are exact at the truth) and leaves the held one
+// alone.
+TEST(AdjustWindow, CrossSectionAnchorPullsFreeKeyFramesToTheMeasuredStart) {
+  const Camera camera = SteelSixInchCamera();
+  std::vector<Eigen::Isometry3d> truth;
+  for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001, 0.01 * a}));
+  const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 110);
+  std::vector<WindowKeyFrame> window(6);
+  for (int a = 0; a < 6; ++a) {
+    window[a].pose = truth[a];
+    window[a].fixed = a == 0;
+    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
+  }
+  WindowAdjustmentOptions options;
+  options.max_iterations = 50;
+  options.cross_section_anchor_xy = Eigen::Vector2d::Zero();
+  options.cross_section_anchor_sigma_m = 1.0;
+  std::vector<WindowKeyFrame> loose = window;
+  AdjustWindow(camera, kRadius, options, &loose);
+  for (int a = 1; a < 6; ++a) {
+    EXPECT_LT((loose[a].pose.translation() - truth[a].translation()).norm(), 1e-6) << a;
+  }
+  options.cross_section_anchor_sigma_m = 1e-8;
+  std::vector<WindowKeyFrame> stiff = window;
+  AdjustWindow(camera, kRadius, options, &stiff);
+  EXPECT_EQ(stiff[0].pose.translation(), truth[0].translation());
+  for (int a = 1; a < 6; ++a) {
+    EXPECT_LT(stiff[a].pose.translation().head<2>().norm(), 1e-5) << a;
+  }
+}
+
 }  // namespace
 }  // namespace pipescope

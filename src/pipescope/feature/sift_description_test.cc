@@ -44,5 +44,22 @@ TEST(DescribeWithSift, EqualsOpenCvSiftAtTheSameKeypointsForAnyLayerCount) {
   }
 }
 
+// The sparse pipeline keeps old key frames' descriptors as bytes for revisits; that is lossless
+// only because OpenCV's SIFT values are whole numbers in 0-255.
+TEST(DescribeWithSift, DescriptorsSurviveARoundTripThroughBytes) {
+  const cv::Mat image = NoiseTexture({200, 150});
+  std::vector<Keypoint> keypoints;
+  for (int i = 0; i < 40; ++i) {
+    keypoints.push_back({cv::Point2f(30.f + 3.3f * i, 40.f + 1.7f * i), 1.f});
+  }
+  const cv::Mat descriptors = DescribeWithSift(image, keypoints, SiftDescriptionOptions());
+  ASSERT_EQ(descriptors.type(), CV_32F);
+  cv::Mat bytes, back;
+  descriptors.convertTo(bytes, CV_8U);
+  bytes.convertTo(back, CV_32F);
+  EXPECT_EQ(cv::norm(descriptors, back, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(descriptors, cv::NORM_INF), 100.0);  // not all small
+}
+
 }  // namespace
 }  // namespace pipescope

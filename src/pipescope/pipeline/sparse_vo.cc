@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "pipescope/estimation/surface_point.h"
 #include "pipescope/estimation/track_statistics.h"
@@ -65,8 +67,19 @@ struct KeyFrame {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   FrameFeatures features;
   std::vector<long long> tracks;  // global index g of every keypoint
+  // The SIFT descriptors as bytes (OpenCV's SIFT values are whole numbers up to 255), kept for
+  // matching when the place is seen again (SparseVoOptions::revisit).
+  cv::Mat revisit_descriptors;
   // This key frame's entries in S(g), kept so they can be taken out again (§5.3.3).
   std::vector<std::optional<SurfacePoint>> contributions;
+};
+
+// Key frame `old_key` (outside the window) saw the wall `new_key` sees: `pairs` map old keypoints
+// to new ones (RANSAC inliers).
+struct Revisit {
+  std::size_t old_key = 0;
+  std::size_t new_key = 0;
+  std::vector<IndexMatch> pairs;
 };
 
 // A localised frame: its anchor key frame's pose moved by delta_h along the axis, and what it
@@ -92,6 +105,11 @@ class SparseOdometer {
     const std::optional<Eigen::Vector3d> facing =
         WallPointOfBearing(start, Eigen::Vector3d::UnitZ(), radius_m);
     phi_reference_rad_ = facing ? std::atan2(facing->y(), facing->x()) : M_PI / 2.0;
+    // The start view's extent on the wall (its longer image side at the start's wall distance).
+    const double wall_distance_m = facing ? (*facing - start.translation()).norm() : radius_m;
+    revisit_max_offset_m_ = options.revisit_max_offset_fraction * wall_distance_m *
+                            std::max(camera.Width(), camera.Height()) /
+                            CentralFocalLengthPx(camera);
   }
 
   // Thread-safe (runs on the reader thread); `wall` and `cpu` get the Harris and SIFT times.
@@ -163,6 +181,7 @@ class SparseOdometer {
     key.features = std::move(features);
     key.tracks.resize(key.features.keypoints.size());
     for (long long& track : key.tracks) track = NewTrack();
+    KeepForRevisit(&key);
     AddContributions(&key);
     key_frames_.push_back(std::move(key));
   }
@@ -211,6 +230,7 @@ class SparseOdometer {
       if (track < 0) track = NewTrack();
     }
     key.features = std::move(features);
+    KeepForRevisit(&key);
     AddContributions(&key);
     // Only the newest key frame is matched again; older descriptors are not needed.
     key_frames_.back().features.descriptors.release();
@@ -219,6 +239,7 @@ class SparseOdometer {
         {frame_index, static_cast<int>(key_frames_.back().tracks.size()), tracked});
 
     const std::size_t count = key_frames_.size();
+    if (options_.revisit) FindRevisit(result);
     // A measured start replaces §5.3.2's estimate of C_X, C_Y (SparseVoOptions).
     if (options_.optimise_initial_position && !options_.window.hold_first_cross_section &&
         count == static_cast<std::size_t>(options_.initial_key_frames)) {
@@ -317,7 +338,8 @@ class SparseOdometer {
   // The window adjustment of key frames [begin, end), the first `fixed` of them held.
   void AdjustKeyFrames(std::size_t begin, int fixed) {
     const std::size_t end = key_frames_.size();
-    std::vector<WindowKeyFrame> window;
+    std::vector<WindowKeyFrame> window = RevisitedKeyFrames(begin);
+    const std::size_t revisited = window.size();
     for (std::size_t k = begin; k < end; ++k) {
       const KeyFrame& key = key_frames_[k];
       WindowKeyFrame entry;
@@ -330,9 +352,10 @@ class SparseOdometer {
     AdjustWindow(camera_, radius_m_, options_.window, &window);
     stage_times_.Add("window_adjustment", clock);
     for (std::size_t k = begin; k < end; ++k) {
-      if (window[k - begin].fixed) continue;
+      const WindowKeyFrame& adjusted = window[revisited + k - begin];
+      if (adjusted.fixed) continue;
       RemoveContributions(&key_frames_[k]);
-      key_frames_[k].pose = window[k - begin].pose;
+      key_frames_[k].pose = adjusted.pose;
       AddContributions(&key_frames_[k]);
     }
   }
@@ -374,6 +397,64 @@ class SparseOdometer {
   }
 
  private:
+  void KeepForRevisit(KeyFrame* key) const {
+    if (options_.revisit) key->features.descriptors.convertTo(key->revisit_descriptors, CV_8U);
+  }
+
+  // The newest key frame against the older key frame nearest to it along the pipe, among those
+  // no window adjustment holds any more (SparseVoOptions::revisit).
+  void FindRevisit(SparseVoResult* result) {
+    const std::size_t newest = key_frames_.size() - 1;
+    const std::size_t window = static_cast<std::size_t>(options_.window_size);
+    if (newest < window) return;
+    const double h = key_frames_[newest].pose.translation().z();
+    std::size_t nearest = 0;
+    double offset = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k + window < newest; ++k) {
+      const double d = std::abs(key_frames_[k].pose.translation().z() - h);
+      if (d < offset) {
+        offset = d;
+        nearest = k;
+      }
+    }
+    if (!(offset <= revisit_max_offset_m_)) return;
+    FrameFeatures old_features = key_frames_[nearest].features;
+    key_frames_[nearest].revisit_descriptors.convertTo(old_features.descriptors, CV_32F);
+    const PairMatches matches = Match(old_features, key_frames_[newest].features);
+    if (static_cast<int>(matches.inliers.size()) < options_.revisit_min_inliers) return;
+    revisits_.push_back({nearest, newest, matches.inliers});
+    ++result->revisits;
+  }
+
+  // Held window entries for the old key frames of the revisits whose new key frame is in the
+  // window from `begin` on: each old keypoint carries the track of the new keypoint it matched,
+  // so every transfer from it ties the window to the old key frame's pose.
+  std::vector<WindowKeyFrame> RevisitedKeyFrames(std::size_t begin) const {
+    std::map<std::size_t, WindowKeyFrame> entries;
+    std::map<std::size_t, std::set<long long>> tracks_of;
+    for (const Revisit& revisit : revisits_) {
+      if (revisit.new_key < begin) continue;
+      const KeyFrame& old_key = key_frames_[revisit.old_key];
+      const KeyFrame& new_key = key_frames_[revisit.new_key];
+      WindowKeyFrame& entry = entries[revisit.old_key];
+      entry.pose = old_key.pose;
+      entry.fixed = true;
+      for (const IndexMatch& pair : revisit.pairs) {
+        const long long track = new_key.tracks[pair.second];
+        // Only tracks the window adjusts (seen in two or more key frames: TrackedKeypoints).
+        if (statistics_[track].n < 2.0 || !tracks_of[revisit.old_key].insert(track).second) {
+          continue;
+        }
+        const cv::Point2f& p = old_key.features.keypoints[pair.first].position;
+        entry.keypoints.push_back(
+            {track, Eigen::Vector2d(p.x, p.y), old_key.features.bearings[pair.first]});
+      }
+    }
+    std::vector<WindowKeyFrame> window;
+    for (auto& [index, entry] : entries) window.push_back(std::move(entry));
+    return window;
+  }
+
   // The key frame's keypoints on tracks seen in two or more key frames.
   std::vector<KeyFrameKeypoint> TrackedKeypoints(const KeyFrame& key) const {
     std::vector<KeyFrameKeypoint> keypoints;
@@ -417,6 +498,8 @@ class SparseOdometer {
   double phi_reference_rad_ = 0.0;
   std::vector<KeyFrame> key_frames_;
   std::vector<TrackStatistics> statistics_;  // S(g), indexed by g
+  double revisit_max_offset_m_ = 0.0;
+  std::vector<Revisit> revisits_;
   StageTimes stage_times_;
 };
 
@@ -484,6 +567,9 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
                      "reference_scale_px_per_m)");
   }
   const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
+  // Without a measured start there is no place to anchor the cross-section to.
+  if (!start_measured) effective.window.cross_section_anchor_sigma_m = 0.0;
+  effective.window.cross_section_anchor_xy = start.translation().head<2>();
   const cv::Mat gain_mask =
       manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
   if (!gain_mask.empty() &&

@@ -62,6 +62,15 @@ struct SparseVoOptions {
   // all key frames by reprojection over the whole run (estimation/global_scale.h).
   bool global_scale = false;
   GlobalScaleOptions global;
+  // Beyond 000: a new key frame where an older one, outside the window, saw the same wall (the
+  // way back of an out-and-back run) is matched to it; the old key frame then joins, held, every
+  // window adjustment that holds the new one, so the way back is tied to the map of the way out
+  // instead of integrating its own drift of the wall distance (docs/sparse_vo.md).
+  bool revisit = true;
+  // The old key frame nearest along the pipe is tried when it is within this fraction of the
+  // start view's footprint on the wall along the pipe.
+  double revisit_max_offset_fraction = 0.25;
+  int revisit_min_inliers = 30;
   // Fewest inlier correspondences a frame needs to be localised at all.
   int min_correspondences = 12;
   CameraMount mount;
@@ -111,6 +120,7 @@ struct SparseVoResult {
   double optimised_reprojection_rms_px = 0.0;
   int refinements = 0;
   int window_adjustments = 0;
+  int revisits = 0;  // key frames matched to an older key frame of the same place (revisit)
   GlobalScaleResult global_scale;
   cv::Mat mosaic;  // unrolled (CV_32F, NaN where unseen); rows along s = r phi, columns along h
   double mosaic_pixel_m = 0.0;

@@ -44,6 +44,10 @@ const std::set<std::string> kKeys = {"grid_rows",
                                      "window_fixed",
                                      "window_iterations",
                                      "window_cross_section_sigma_m",
+                                     "cross_section_anchor_sigma_m",
+                                     "revisit",
+                                     "revisit_max_offset_fraction",
+                                     "revisit_min_inliers",
                                      "pipelined",
                                      "global_scale"};
 
@@ -106,11 +110,15 @@ void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* opt
   r.ReadBool("hold_measured_start", &options->window.hold_first_cross_section);
   r.ReadBool("pipelined", &options->pipelined);
   r.ReadBool("global_scale", &options->global_scale);
+  r.ReadBool("revisit", &options->revisit);
+  r.Read("revisit_max_offset_fraction", 0.0, 10.0, &options->revisit_max_offset_fraction);
+  r.Read("revisit_min_inliers", 6, 100000, &options->revisit_min_inliers);
   r.Read("window_size", 2, 10000, &options->window_size);
   r.Read("window_every", 1, 10000, &options->window_every);
   r.Read("window_fixed", 0, 10000, &options->window_fixed);
   r.Read("window_iterations", 1, 1000, &options->window.max_iterations);
   r.Read("window_cross_section_sigma_m", 0.0, 1.0, &options->window.cross_section_step_sigma_m);
+  r.Read("cross_section_anchor_sigma_m", 0.0, 1.0, &options->window.cross_section_anchor_sigma_m);
   options->window.robust_loss_px = options->initial_position.robust_loss_px;
   r.Read("min_correspondences", 6, 100000, &options->min_correspondences);
   if (auto axis = OptionalYamlValue<std::string>(root, "axis_along_pipe", path)) {
@@ -155,11 +163,15 @@ nlohmann::json SparseVoOptionsToJson(const SparseVoOptions& o) {
           {"hold_measured_start", o.window.hold_first_cross_section},
           {"pipelined", o.pipelined},
           {"global_scale", o.global_scale},
+          {"revisit", o.revisit},
+          {"revisit_max_offset_fraction", o.revisit_max_offset_fraction},
+          {"revisit_min_inliers", o.revisit_min_inliers},
           {"window_size", o.window_size},
           {"window_every", o.window_every},
           {"window_fixed", o.window_fixed},
           {"window_iterations", o.window.max_iterations},
           {"window_cross_section_sigma_m", o.window.cross_section_step_sigma_m},
+          {"cross_section_anchor_sigma_m", o.window.cross_section_anchor_sigma_m},
           {"min_correspondences", o.min_correspondences},
           {"axis_along_pipe", o.mount.axis_along_pipe},
           {"wall_distance_m", o.wall_distance_m},
