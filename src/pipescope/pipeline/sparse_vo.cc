@@ -545,6 +545,12 @@ RegionHarrisOptions SparseVoRegionHarrisOptions() {
   return options;
 }
 
+WindowAdjustmentOptions SparseVoWindowOptions() {
+  WindowAdjustmentOptions options;
+  options.cross_section_anchor_sigma_m = 0.001;
+  return options;
+}
+
 SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera,
                            const SparseVoOptions& options) {
   CheckOptions(options);

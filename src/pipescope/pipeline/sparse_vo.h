@@ -27,6 +27,14 @@ namespace pipescope {
 // steel-16in 0.731 % -> 0.095 %, steel-6in 0.068 % -> 0.016 %).
 RegionHarrisOptions SparseVoRegionHarrisOptions();
 
+// The window adjustment with the cross-section anchor on (beyond 000, which holds C_X, C_Y
+// constant after §5.3.2): every free key frame's place across the pipe is held to the measured
+// start with sigma 1 mm, i.e. the crawler is taken to be centred over metres of travel. Where the
+// lens sees too little of the wall's curvature (steel-16in) the wall distance, and with it the
+// scale, otherwise wanders and keeps any error of the measured start (docs/sparse_vo.md,
+// "Holding the wall distance").
+WindowAdjustmentOptions SparseVoWindowOptions();
+
 struct SparseVoOptions {
   RegionHarrisOptions harris = SparseVoRegionHarrisOptions();
   SiftDescriptionOptions sift;
@@ -51,7 +59,7 @@ struct SparseVoOptions {
   int window_size = 20;
   int window_every = 10;
   int window_fixed = 3;
-  WindowAdjustmentOptions window;
+  WindowAdjustmentOptions window = SparseVoWindowOptions();
   // When the start's wall distance is measured (wall_distance_m or the reference scale), hold
   // the first key frame's position across the pipe there, in the first window adjustment and
   // instead of §5.3.2's estimate of C_X, C_Y. Through a narrow lens (steel-16in: 25 degrees)
