@@ -18,35 +18,36 @@
 namespace pipescope {
 namespace {
 
-// 000 Table 1's pipe 2 set-up at half resolution (320x240, 25 degrees), one way, 2 s at
-// 10 cm/s, with the preset's drift across the pipe, roll and wobble; small, so the test is fast.
+// 000 Table 1's pipe 2 set-up at half resolution (320x240, 25 degrees) at 10 cm/s, with the
+// preset's drift across the pipe, roll and wobble; small, so the tests are fast.
+SimulationConfig ShortSteelConfig(int frames) {
+  SimulationConfig config = PresetConfig("steel-16in");
+  config.width = 320;
+  config.height = 240;
+  config.frames = frames;
+  config.speed_m_s = 0.1;
+  config.white_card_count = 4;
+  return config;
+}
+
+// One way, 2 s.
 std::filesystem::path ShortSteelRun() {
   static const std::filesystem::path path = [] {
     const auto dir = MakeTestDirectory("sparse_vo_short") / "steel";
-    SimulationConfig config = PresetConfig("steel-16in");
-    config.width = 320;
-    config.height = 240;
-    config.frames = 60;
+    SimulationConfig config = ShortSteelConfig(60);
     config.out_and_back = false;
-    config.speed_m_s = 0.1;
-    config.white_card_count = 4;
     SimulateDataset(config, dir);
     return dir;
   }();
   return path;
 }
 
-// The same set-up out and back: 0.3 m each way, 6 s.
+// Out and back: 0.3 m each way, 6 s.
 std::filesystem::path ShortOutAndBackRun() {
   static const std::filesystem::path path = [] {
     const auto dir = MakeTestDirectory("sparse_vo_out_and_back") / "steel";
-    SimulationConfig config = PresetConfig("steel-16in");
-    config.width = 320;
-    config.height = 240;
-    config.frames = 190;
+    SimulationConfig config = ShortSteelConfig(190);
     config.length_m = 0.3 + 2.0 * config.end_margin_m;
-    config.speed_m_s = 0.1;
-    config.white_card_count = 4;
     SimulateDataset(config, dir);
     return dir;
   }();
