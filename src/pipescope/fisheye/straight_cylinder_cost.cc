@@ -3,6 +3,7 @@
 #include <ceres/rotation.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 
 #include "pipescope/fisheye/quaternion_rotation_jacobian.h"
@@ -31,7 +32,12 @@ bool StraightCylinderCost::Evaluate(double const* const* parameters, double* res
   const double y = cg * y1 - sg * z1 + cylinder[3];
   const double rho = std::sqrt(x * x + y * y + 1e-18);
   residuals[0] = sqrt_tau_ * (rho - radius_);  // eq. 6, times sqrt(tau)
+  residuals[1] = 0.0;                          // the padding row
   if (!jacobians) return true;
+  const int sizes[4] = {4, 4, 3, 3};
+  for (int block = 0; block < 4; ++block) {
+    if (jacobians[block]) std::fill_n(jacobians[block] + sizes[block], sizes[block], 0.0);
+  }
   const double de_dx = sqrt_tau_ * x / rho;
   const double de_dy = sqrt_tau_ * y / rho;
   if (jacobians[0]) {

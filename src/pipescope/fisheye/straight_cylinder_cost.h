@@ -8,7 +8,11 @@ namespace pipescope {
 // of StraightCylinderError (bit for bit) with its Jacobians written out instead of automatic
 // differentiation over 14 parameters. Parameters: cylinder {gamma, beta, t_X, t_Y}, the first
 // pose's quaternion (w, x, y, z) and translation, and the point.
-class StraightCylinderCost : public ceres::SizedCostFunction<1, 4, 4, 3, 3> {
+//
+// A second residual, always zero, pads the term to two rows like the reprojection errors: with
+// every residual of a point two rows long, Ceres' Schur elimination of the points takes its
+// fixed-size <2, 3, dynamic> kernels instead of the all-dynamic one. The cost is unchanged.
+class StraightCylinderCost : public ceres::SizedCostFunction<2, 4, 4, 3, 3> {
  public:
   StraightCylinderCost(double radius, double tau);
   bool Evaluate(double const* const* parameters, double* residuals,
