@@ -45,13 +45,18 @@ struct SphereEpipolarResidual {
   Eigen::Vector3d bearing_j_;
 };
 
+// The inliers of `essential` and their count. With `must_beat` >= 0 the count stops once it
+// can no longer exceed must_beat (the hypothesis cannot win): then *count <= must_beat and the
+// inliers are partial.
 void CountInliers(const Eigen::Matrix3d& essential, const std::vector<Eigen::Vector3d>& bearings_i,
                   const std::vector<Eigen::Vector3d>& bearings_j, double threshold,
-                  std::vector<char>* inliers, int* count) {
-  inliers->assign(bearings_i.size(), 0);
+                  std::vector<char>* inliers, int* count, int must_beat = -1) {
+  const int n = static_cast<int>(bearings_i.size());
+  inliers->assign(n, 0);
   *count = 0;
-  for (std::size_t k = 0; k < bearings_i.size(); ++k) {
-    if (SphereEpipolarError(essential, bearings_i[k], bearings_j[k]) < threshold) {
+  for (int k = 0; k < n; ++k) {
+    if (*count + (n - k) <= must_beat) return;
+    if (IsSphereEpipolarInlier(essential, bearings_i[k], bearings_j[k], threshold)) {
       (*inliers)[k] = 1;
       ++*count;
     }
@@ -94,6 +99,18 @@ double SphereEpipolarError(const Eigen::Matrix3d& essential, const Eigen::Vector
   const double norm_i = normal_i.norm();
   if (norm_j < 1e-12 || norm_i < 1e-12) return algebraic;
   return std::max(algebraic / norm_j, algebraic / norm_i);
+}
+
+bool IsSphereEpipolarInlier(const Eigen::Matrix3d& essential, const Eigen::Vector3d& bearing_i,
+                            const Eigen::Vector3d& bearing_j, double threshold) {
+  const Eigen::Vector3d normal_j = essential * bearing_i;
+  const double algebraic = std::abs(bearing_j.dot(normal_j));
+  const double norm_j = normal_j.norm();
+  // algebraic = |eta_i . E^T eta_j| <= |E^T eta_j| for a unit eta_i, so above 2e-12 the second
+  // norm is not below SphereEpipolarError's 1e-12 floor either, and the error is at least
+  // algebraic / norm_j: at or above the threshold that alone decides.
+  if (norm_j >= 1e-12 && algebraic >= 2e-12 && !(algebraic / norm_j < threshold)) return false;
+  return SphereEpipolarError(essential, bearing_i, bearing_j) < threshold;
 }
 
 bool TriangulateDepthsMidpoint(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
@@ -213,6 +230,7 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
         samples[b][k] = all[k];
       }
     }
+    const int best_before_batch = result.num_inliers;
     cv::parallel_for_(cv::Range(0, batch), [&](const cv::Range& range) {
       for (int b = range.start; b < range.end; ++b) {
         Hypothesis& hypothesis = hypotheses[b];
@@ -220,8 +238,9 @@ SphereRelativePose EstimateSphereRelativePose(const std::vector<Eigen::Vector3d>
             bearings_i, bearings_j, std::vector<int>(samples[b].begin(), samples[b].end()),
             &hypothesis.essential);
         if (!hypothesis.valid) continue;
+        // A hypothesis with no more inliers than the best before the batch is never taken.
         CountInliers(hypothesis.essential, bearings_i, bearings_j, options.inlier_threshold_rad,
-                     &hypothesis.inliers, &hypothesis.count);
+                     &hypothesis.inliers, &hypothesis.count, best_before_batch);
       }
     });
     for (int b = 0; b < batch && iteration < iterations_wanted(); ++b, ++iteration) {

@@ -225,6 +225,48 @@ TEST(SphereRelativePoseTest, ParallelRansacTakesTheSequentialLoopsHypothesis) {
   cv::setNumThreads(-1);
 }
 
+// The inlier test that skips the second image's error decides as SphereEpipolarError < threshold
+// does: random essential matrices and unit bearings, most of them near the threshold (either
+// image's error just above or below it), and bearings at the epipoles, where a normal vanishes.
+TEST(SphereRelativePoseTest, InlierTestDecidesAsTheEpipolarError) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const auto random_unit = [&] {
+    return Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+  };
+  const double threshold = 0.004;
+  int inliers = 0, outliers = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Eigen::Matrix3d rotation =
+        Eigen::AngleAxisd(0.3 * uniform(rng), random_unit()).toRotationMatrix();
+    const Eigen::Vector3d translation = random_unit();
+    Eigen::Matrix3d skew;
+    skew << 0, -translation.z(), translation.y(), translation.z(), 0, -translation.x(),
+        -translation.y(), translation.x(), 0;
+    const Eigen::Matrix3d essential = skew * rotation;
+    const Eigen::Vector3d bearing_i =
+        trial % 50 == 0 ? Eigen::Vector3d(rotation.transpose() * translation) : random_unit();
+    Eigen::Vector3d bearing_j;
+    if (trial % 50 == 1) {
+      bearing_j = translation;  // at the epipole: E^T eta_j = 0
+    } else {
+      // On the epipolar plane of eta_i, then turned out of it by about the threshold.
+      const Eigen::Vector3d plane_normal = (essential * bearing_i).normalized();
+      const Eigen::Vector3d in_plane =
+          (random_unit() - random_unit().dot(plane_normal) * plane_normal).normalized();
+      const double angle = threshold * (0.6 + 0.6 * uniform(rng));
+      bearing_j = (std::cos(angle) * in_plane + std::sin(angle) * plane_normal).normalized();
+    }
+    const bool expected = SphereEpipolarError(essential, bearing_i, bearing_j) < threshold;
+    EXPECT_EQ(IsSphereEpipolarInlier(essential, bearing_i, bearing_j, threshold), expected)
+        << "trial " << trial;
+    (expected ? inliers : outliers) += 1;
+  }
+  EXPECT_GT(inliers, 500);  // both decisions are exercised
+  EXPECT_GT(outliers, 500);
+}
+
 TEST(SphereRelativePoseTest, TooFewCorrespondencesFail) {
   const SphereScene scene = MakeScene(0.0, 0.0, 5);
   const std::vector<Eigen::Vector3d> few_i(scene.bearings_i.begin(), scene.bearings_i.begin() + 7);
