@@ -202,7 +202,9 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     // cylinder to every camera that sees it) and small (6 per pose): a dense Cholesky of it is
     // cheaper than building and factoring a block-sparse one.
     solver_options.linear_solver_type = ceres::DENSE_SCHUR;
-    solver_options.max_num_iterations = options.max_iterations_per_stage;
+    const bool last_stage = stage + 1 >= std::max(1, options.stages);
+    solver_options.max_num_iterations = last_stage ? options.max_iterations_per_stage
+                                                   : options.max_iterations_before_outlier_removal;
     solver_options.num_threads = options.num_threads;
     solver_options.logging_type = ceres::SILENT;
     ceres::Solver::Summary solver_summary;
