@@ -58,9 +58,8 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   const int y0 = std::max(half, static_cast<int>(std::lround(point_i.y)) - r);
   const int y1 = std::min(grey_j.rows - 1 - half, static_cast<int>(std::lround(point_i.y)) + r);
   if (x1 < x0 || y1 < y0) return match;
-  cv::Mat scores(y1 - y0 + 1, x1 - x0 + 1, CV_32F, cv::Scalar(-2.f));
-  // The scored pixels (a band a few pixels wide across the box): the peak tests scan these
-  // instead of the whole box, where every other entry is -2.
+  // The scored pixels (a band a few pixels wide across the box, in row order): the peak tests
+  // and the sub-pixel refinement look them up instead of a box of scores filled with -2.
   struct Scored {
     int x, y;
     float score;
@@ -103,7 +102,6 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
       const double variance = sum_sq - sum * sum / area;
       if (variance <= 1e-6) continue;
       const float score = cross / static_cast<float>(std::sqrt(variance));
-      scores.at<float>(y - y0, x - x0) = score;
       scored.push_back({x, y, score});
       if (score > best) {
         best = score;
@@ -128,10 +126,12 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
     }
     if (best - distinct < options.min_peak_margin) return match;
   }
-  // Parabolic sub-pixel refinement where the neighbours were scored.
+  // Parabolic sub-pixel refinement where the neighbours were scored (-2: not scored).
   const auto score_at = [&](int x, int y) {
-    if (x < x0 || x > x1 || y < y0 || y > y1) return -2.f;
-    return scores.at<float>(y - y0, x - x0);
+    for (const Scored& candidate : scored) {
+      if (candidate.x == x && candidate.y == y) return candidate.score;
+    }
+    return -2.f;
   };
   const auto parabola = [](float left, float centre, float right) {
     const float denominator = left - 2.f * centre + right;
