@@ -83,30 +83,56 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   };
   float best = -2.f;
   int best_x = -1, best_y = -1;
+  const auto take = [&](int x, int y, float cross) {
+    // ZNCC against the zero-mean unit template: sum(t p) / sqrt(sum p^2 - (sum p)^2 / n).
+    const double sum = window_sum(sums, x, y);
+    const double sum_sq = window_sum(square_sums, x, y);
+    const double variance = sum_sq - sum * sum / area;
+    if (variance <= 1e-6) return;
+    const float score = cross / static_cast<float>(std::sqrt(variance));
+    scored.push_back({x, y, score});
+    if (score > best) {
+      best = score;
+      best_x = x;
+      best_y = y;
+    }
+  };
+  std::vector<int> band;  // the band's columns in one row, ascending
+  band.reserve(x1 - x0 + 1);
   for (int y = y0; y <= y1; ++y) {
     const cv::Vec3f* eta_row = bearings.bearing_mat().ptr<cv::Vec3f>(y);
     const uchar* valid_row = bearings.valid_mask().ptr<uchar>(y);
+    band.clear();
     for (int x = x0; x <= x1; ++x) {
       if (!valid_row[x]) continue;
       const cv::Vec3f& eta = eta_row[x];
       if (std::abs(eta[0] * n0 + eta[1] * n1 + eta[2] * n2) >= threshold) continue;
-      // ZNCC against the zero-mean unit template: sum(t p) / sqrt(sum p^2 - (sum p)^2 / n).
-      const double sum = window_sum(sums, x, y);
-      const double sum_sq = window_sum(square_sums, x, y);
-      float cross = 0.f;
-      for (int v = -half; v <= half; ++v) {
-        const float* row = grey_j.ptr<float>(y + v) + x - half;
-        const float* t = normalised_i.ptr<float>(v + half);
-        for (int u = 0; u < side; ++u) cross += t[u] * row[u];
-      }
-      const double variance = sum_sq - sum * sum / area;
-      if (variance <= 1e-6) continue;
-      const float score = cross / static_cast<float>(std::sqrt(variance));
-      scored.push_back({x, y, score});
-      if (score > best) {
-        best = score;
-        best_x = x;
-        best_y = y;
+      band.push_back(x);
+    }
+    // The cross terms sum(t p), four adjacent columns at a time where the band has them: each
+    // lane adds its products in the order one column alone does, so the floats are the same.
+    for (std::size_t i = 0; i < band.size();) {
+      const int x = band[i];
+      if (i + 3 < band.size() && band[i + 3] == x + 3) {
+        float cross[4] = {0.f, 0.f, 0.f, 0.f};
+        for (int v = -half; v <= half; ++v) {
+          const float* row = grey_j.ptr<float>(y + v) + x - half;
+          const float* t = normalised_i.ptr<float>(v + half);
+          for (int u = 0; u < side; ++u) {
+            for (int lane = 0; lane < 4; ++lane) cross[lane] += t[u] * row[u + lane];
+          }
+        }
+        for (int lane = 0; lane < 4; ++lane) take(x + lane, y, cross[lane]);
+        i += 4;
+      } else {
+        float cross = 0.f;
+        for (int v = -half; v <= half; ++v) {
+          const float* row = grey_j.ptr<float>(y + v) + x - half;
+          const float* t = normalised_i.ptr<float>(v + half);
+          for (int u = 0; u < side; ++u) cross += t[u] * row[u];
+        }
+        take(x, y, cross);
+        ++i;
       }
     }
   }
