@@ -125,6 +125,32 @@ TEST(SphereRelativePoseTest, LinearEssentialSatisfiesEpipolarConstraintAndDecomp
   EXPECT_NEAR(std::hypot(point_i.x(), point_i.y()), 0.2, 1e-9);
 }
 
+// An eight-point sample is solved by a QR of A^T, more points by the eigen-decomposition of
+// A^T A: on noise-free bearings both give the true essential matrix (the eight with a ninth
+// row repeated go the eigen way), and a sample of fewer than 8 independent rows is refused.
+TEST(SphereRelativePoseTest, EightPointSampleGivesTheEssentialOfMorePoints) {
+  const SphereScene scene = MakeScene(0.0, 0.0, 17);
+  for (int start = 0; start + 8 <= 40; start += 8) {
+    std::vector<int> sample(8);
+    for (int k = 0; k < 8; ++k) sample[k] = start + k;
+    Eigen::Matrix3d from_qr, from_eigen;
+    ASSERT_TRUE(EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, sample, &from_qr));
+    std::vector<int> nine = sample;
+    nine.push_back(sample[3]);
+    ASSERT_TRUE(EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, nine, &from_eigen));
+    const double sign = (from_qr.cwiseProduct(from_eigen)).sum() < 0 ? -1.0 : 1.0;
+    EXPECT_LT((from_qr - sign * from_eigen).norm(), 1e-8) << start;
+    for (int k = 0; k < 40; ++k) {
+      EXPECT_LT(SphereEpipolarError(from_qr, scene.bearings_i[k], scene.bearings_j[k]), 1e-9);
+    }
+    std::vector<int> repeated = sample;
+    repeated[7] = repeated[2];  // 7 independent rows
+    Eigen::Matrix3d refused;
+    EXPECT_FALSE(
+        EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, repeated, &refused));
+  }
+}
+
 TEST(SphereRelativePoseTest, MotionPriorFindsThePoseAmongMostlyWrongMatches) {
   // 75 % wrong matches: an all-inlier eight-point sample has probability 0.25^8 = 1.5e-5, so
   // 200 random samples almost never find the pose; a prior a few tenths of a degree and a few
