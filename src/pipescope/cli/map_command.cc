@@ -66,14 +66,17 @@ std::map<std::string, double*> DoubleKeys(FisheyeMappingOptions* o) {
           {"first_rotation_sigma_deg", &o->window.first_rotation_sigma_deg}};
 }
 std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
-  return {{"window_interval", &o->window_interval},
-          {"window_size", &o->window_size},
-          {"min_cluster_size", &o->min_cluster_size},
-          {"per_region", &o->tracking.harris.per_cell},
-          {"stages", &o->window.stages},
-          {"min_cylinder_scale_points", &o->min_cylinder_scale_points},
-          {"speed_history", &o->speed_history},
-          {"stale_axis_keyframes", &o->stale_axis_keyframes}};
+  return {
+      {"window_interval", &o->window_interval},
+      {"window_size", &o->window_size},
+      {"min_cluster_size", &o->min_cluster_size},
+      {"per_region", &o->tracking.harris.per_cell},
+      {"stages", &o->window.stages},
+      {"max_iterations_per_stage", &o->window.max_iterations_per_stage},
+      {"max_iterations_before_outlier_removal", &o->window.max_iterations_before_outlier_removal},
+      {"min_cylinder_scale_points", &o->min_cylinder_scale_points},
+      {"speed_history", &o->speed_history},
+      {"stale_axis_keyframes", &o->stale_axis_keyframes}};
 }
 
 void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {

@@ -47,13 +47,36 @@ bool FeatureTracker::Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing)
 }
 
 void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
-                                  std::vector<TrackedFeature> features, TrackedKeyframe* keyframe) {
+                                  std::vector<TrackedFeature> features, TrackedKeyframe* keyframe,
+                                  const cv::Mat& detection_descriptors,
+                                  const std::vector<int>& detection_rows) {
   auto state = std::make_unique<KeyframeState>();
   state->frame_index = frame_index;
   state->grey = grey.clone();
   state->features = std::move(features);
   for (const TrackedFeature& feature : state->features) state->points.push_back(feature.pixel);
-  state->descriptors = ComputeTemplateDescriptors(grey, state->points, options_.descriptor);
+  if (detection_rows.empty()) {
+    state->descriptors = ComputeTemplateDescriptors(grey, state->points, options_.descriptor);
+  } else {
+    // A descriptor depends only on the image and the pixel: the detections' rows are copied,
+    // only the guided matches' (sub-pixel, new places) are computed.
+    std::vector<cv::Point2f> missing_points;
+    for (std::size_t k = 0; k < state->points.size(); ++k) {
+      if (detection_rows[k] < 0) missing_points.push_back(state->points[k]);
+    }
+    const cv::Mat missing = ComputeTemplateDescriptors(grey, missing_points, options_.descriptor);
+    const int dim = options_.descriptor.descriptor_size * options_.descriptor.descriptor_size;
+    state->descriptors.create(static_cast<int>(state->points.size()), dim, CV_32F);
+    int next_missing = 0;
+    for (std::size_t k = 0; k < state->points.size(); ++k) {
+      const int row = static_cast<int>(k);
+      if (detection_rows[k] >= 0) {
+        detection_descriptors.row(detection_rows[k]).copyTo(state->descriptors.row(row));
+      } else {
+        missing.row(next_missing++).copyTo(state->descriptors.row(row));
+      }
+    }
+  }
   keyframe->frame_index = frame_index;
   keyframe->features = state->features;
   last_ = std::move(state);
@@ -119,6 +142,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
 
   // The new key frame: inlier template matches keep their track ids ...
   std::vector<TrackedFeature> features;
+  std::vector<int> detection_rows;  // per feature: its row of `descriptors`, -1 for guided
   std::vector<char> matched_i(last_->features.size(), 0);
   std::vector<char> used_j(points.size(), 0);
   for (std::size_t k = 0; k < usable_matches.size(); ++k) {
@@ -128,6 +152,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     used_j[match.index_b] = 1;
     features.push_back(
         {last_->features[match.index_a].track_id, points[match.index_b], bearings_j[k]});
+    detection_rows.push_back(match.index_b);
   }
   const int matches_cosine = static_cast<int>(features.size());
   // ... the key frame's unmatched features are searched for by guided ZNCC ...
@@ -158,6 +183,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
       TrackedFeature tracked{feature.track_id, guided.point_j, Eigen::Vector3d()};
       if (!Bearing(guided.point_j, &tracked.bearing)) continue;
       features.push_back(tracked);
+      detection_rows.push_back(-1);
     }
   }
   const int matches_guided = static_cast<int>(features.size()) - matches_cosine;
@@ -176,6 +202,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     if (!Bearing(points[j], &feature.bearing)) continue;
     ++next_track_id_;
     features.push_back(feature);
+    detection_rows.push_back(static_cast<int>(j));
   }
   *keyframe = TrackedKeyframe();
   keyframe->has_previous = true;
@@ -184,7 +211,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   keyframe->matches_cosine = matches_cosine;
   keyframe->matches_guided = matches_guided;
   keyframe->median_flow_px = step.median_flow_px;
-  MakeKeyframe(grey, frame_index, std::move(features), keyframe);
+  MakeKeyframe(grey, frame_index, std::move(features), keyframe, descriptors, detection_rows);
   return step;
 }
 

@@ -90,6 +90,8 @@ class FeatureTracker {
   void Reset() { last_.reset(); }
 
   const BearingTable& bearings() const { return bearings_; }
+  // The last key frame's template descriptors, one row per feature of its TrackedKeyframe.
+  const cv::Mat& keyframe_descriptors() const { return last_ ? last_->descriptors : empty_; }
 
  private:
   struct KeyframeState {
@@ -102,8 +104,11 @@ class FeatureTracker {
 
   std::vector<cv::Point2f> Detect(const cv::Mat& grey) const;
   bool Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const;
+  // `detection_rows[k]`: the row of `detection_descriptors` already computed at features[k]'s
+  // pixel in this image, or -1 (then it is computed here); empty: all are computed here.
   void MakeKeyframe(const cv::Mat& grey, int frame_index, std::vector<TrackedFeature> features,
-                    TrackedKeyframe* keyframe);
+                    TrackedKeyframe* keyframe, const cv::Mat& detection_descriptors = cv::Mat(),
+                    const std::vector<int>& detection_rows = {});
 
   const Camera& camera_;
   FeatureTrackerOptions options_;
@@ -112,6 +117,7 @@ class FeatureTracker {
   std::unique_ptr<KeyframeState> last_;
   std::optional<SphereRelativePose> last_motion_;  // the last key-frame step, a RANSAC prior
   long next_track_id_ = 0;
+  cv::Mat empty_;
 };
 
 }  // namespace pipescope

@@ -58,9 +58,8 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   const int y0 = std::max(half, static_cast<int>(std::lround(point_i.y)) - r);
   const int y1 = std::min(grey_j.rows - 1 - half, static_cast<int>(std::lround(point_i.y)) + r);
   if (x1 < x0 || y1 < y0) return match;
-  cv::Mat scores(y1 - y0 + 1, x1 - x0 + 1, CV_32F, cv::Scalar(-2.f));
-  // The scored pixels (a band a few pixels wide across the box): the peak tests scan these
-  // instead of the whole box, where every other entry is -2.
+  // The scored pixels (a band a few pixels wide across the box, in row order): the peak tests
+  // and the sub-pixel refinement look them up instead of a box of scores filled with -2.
   struct Scored {
     int x, y;
     float score;
@@ -84,31 +83,56 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   };
   float best = -2.f;
   int best_x = -1, best_y = -1;
+  const auto take = [&](int x, int y, float cross) {
+    // ZNCC against the zero-mean unit template: sum(t p) / sqrt(sum p^2 - (sum p)^2 / n).
+    const double sum = window_sum(sums, x, y);
+    const double sum_sq = window_sum(square_sums, x, y);
+    const double variance = sum_sq - sum * sum / area;
+    if (variance <= 1e-6) return;
+    const float score = cross / static_cast<float>(std::sqrt(variance));
+    scored.push_back({x, y, score});
+    if (score > best) {
+      best = score;
+      best_x = x;
+      best_y = y;
+    }
+  };
+  std::vector<int> band;  // the band's columns in one row, ascending
+  band.reserve(x1 - x0 + 1);
   for (int y = y0; y <= y1; ++y) {
     const cv::Vec3f* eta_row = bearings.bearing_mat().ptr<cv::Vec3f>(y);
     const uchar* valid_row = bearings.valid_mask().ptr<uchar>(y);
+    band.clear();
     for (int x = x0; x <= x1; ++x) {
       if (!valid_row[x]) continue;
       const cv::Vec3f& eta = eta_row[x];
       if (std::abs(eta[0] * n0 + eta[1] * n1 + eta[2] * n2) >= threshold) continue;
-      // ZNCC against the zero-mean unit template: sum(t p) / sqrt(sum p^2 - (sum p)^2 / n).
-      const double sum = window_sum(sums, x, y);
-      const double sum_sq = window_sum(square_sums, x, y);
-      float cross = 0.f;
-      for (int v = -half; v <= half; ++v) {
-        const float* row = grey_j.ptr<float>(y + v) + x - half;
-        const float* t = normalised_i.ptr<float>(v + half);
-        for (int u = 0; u < side; ++u) cross += t[u] * row[u];
-      }
-      const double variance = sum_sq - sum * sum / area;
-      if (variance <= 1e-6) continue;
-      const float score = cross / static_cast<float>(std::sqrt(variance));
-      scores.at<float>(y - y0, x - x0) = score;
-      scored.push_back({x, y, score});
-      if (score > best) {
-        best = score;
-        best_x = x;
-        best_y = y;
+      band.push_back(x);
+    }
+    // The cross terms sum(t p), four adjacent columns at a time where the band has them: each
+    // lane adds its products in the order one column alone does, so the floats are the same.
+    for (std::size_t i = 0; i < band.size();) {
+      const int x = band[i];
+      if (i + 3 < band.size() && band[i + 3] == x + 3) {
+        float cross[4] = {0.f, 0.f, 0.f, 0.f};
+        for (int v = -half; v <= half; ++v) {
+          const float* row = grey_j.ptr<float>(y + v) + x - half;
+          const float* t = normalised_i.ptr<float>(v + half);
+          for (int u = 0; u < side; ++u) {
+            for (int lane = 0; lane < 4; ++lane) cross[lane] += t[u] * row[u + lane];
+          }
+        }
+        for (int lane = 0; lane < 4; ++lane) take(x + lane, y, cross[lane]);
+        i += 4;
+      } else {
+        float cross = 0.f;
+        for (int v = -half; v <= half; ++v) {
+          const float* row = grey_j.ptr<float>(y + v) + x - half;
+          const float* t = normalised_i.ptr<float>(v + half);
+          for (int u = 0; u < side; ++u) cross += t[u] * row[u];
+        }
+        take(x, y, cross);
+        ++i;
       }
     }
   }
@@ -128,10 +152,12 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
     }
     if (best - distinct < options.min_peak_margin) return match;
   }
-  // Parabolic sub-pixel refinement where the neighbours were scored.
+  // Parabolic sub-pixel refinement where the neighbours were scored (-2: not scored).
   const auto score_at = [&](int x, int y) {
-    if (x < x0 || x > x1 || y < y0 || y > y1) return -2.f;
-    return scores.at<float>(y - y0, x - x0);
+    for (const Scored& candidate : scored) {
+      if (candidate.x == x && candidate.y == y) return candidate.score;
+    }
+    return -2.f;
   };
   const auto parabola = [](float left, float centre, float right) {
     const float denominator = left - 2.f * centre + right;

@@ -53,5 +53,69 @@ TEST(GuidedZncc, FindsTheBestPlaceOfOpenCvsNormalisedCorrelation) {
   EXPECT_NEAR(match.point_j.y, 107.f, 0.5f);
 }
 
+// With a real epipolar band the search scores only the pixels whose bearing lies within the
+// threshold of the epipolar plane: here the true shift (4, -3) lies outside a horizontal band,
+// and the match must be cv::matchTemplate's best over the band's pixels (the band taken from
+// the bearing table's float bearings, as the search takes it).
+TEST(GuidedZncc, ScoresOnlyTheEpipolarBand) {
+  const Camera camera(CameraModelId::kFisheyePoly, 320, 240, {90.0, -1.0, 0.0, 0.0, 159.5, 119.5});
+  const BearingTable bearings(camera);
+  cv::Mat noise(240, 320, CV_32F);
+  cv::randu(noise, 0.0, 255.0);
+  cv::Mat grey_i;
+  cv::GaussianBlur(noise, grey_i, cv::Size(5, 5), 1.5);
+  cv::Mat grey_j;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 4, 0, 1, -3);
+  cv::warpAffine(grey_i, grey_j, shift, grey_i.size(), cv::INTER_LINEAR);
+
+  GuidedZnccOptions options;
+  options.search_radius_px = 12;
+  options.min_zncc = -1.0;
+  options.min_peak_margin = -1.0;  // every band keeps its best
+  const cv::Point2f point_i(150.f, 110.f);
+  Eigen::Vector3d bearing_i;
+  ASSERT_TRUE(camera.Unproject(Eigen::Vector2d(point_i.x, point_i.y), &bearing_i));
+  Eigen::Matrix3d essential;  // pure sideways motion along x: E = [t]x
+  essential << 0, 0, 0, 0, 0, -1, 0, 1, 0;
+  const GuidedMatch match =
+      GuidedZnccSearch(grey_i, grey_j, point_i, bearing_i, essential, bearings, options);
+  ASSERT_TRUE(match.found);
+
+  const int half = options.template_size_px / 2;
+  const int r = options.search_radius_px;
+  const cv::Mat templ = grey_i(cv::Rect(150 - half, 110 - half, 2 * half + 1, 2 * half + 1));
+  const cv::Mat box =
+      grey_j(cv::Rect(150 - r - half, 110 - r - half, 2 * r + 2 * half + 1, 2 * r + 2 * half + 1));
+  cv::Mat scores;
+  cv::matchTemplate(box, templ, scores, cv::TM_CCOEFF_NORMED);
+  const Eigen::Vector3d normal = essential * bearing_i;
+  const float n0 = static_cast<float>(normal.x()), n1 = static_cast<float>(normal.y()),
+              n2 = static_cast<float>(normal.z());
+  float best = -2.f;
+  int best_x = -1, best_y = -1, in_band = 0;
+  for (int v = 0; v < scores.rows; ++v) {
+    for (int u = 0; u < scores.cols; ++u) {
+      const int x = 150 - r + u, y = 110 - r + v;
+      const cv::Vec3f eta = bearings.bearing_mat().at<cv::Vec3f>(y, x);
+      if (!bearings.Valid(x, y) || std::abs(eta[0] * n0 + eta[1] * n1 + eta[2] * n2) >=
+                                       static_cast<float>(options.epipolar_threshold)) {
+        continue;
+      }
+      ++in_band;
+      if (scores.at<float>(v, u) > best) {
+        best = scores.at<float>(v, u);
+        best_x = x;
+        best_y = y;
+      }
+    }
+  }
+  ASSERT_GT(in_band, 10);
+  ASSERT_LT(in_band, scores.rows * scores.cols / 3);  // a band, not the box
+  EXPECT_EQ(std::lround(match.point_j.x), best_x);
+  EXPECT_EQ(std::lround(match.point_j.y), best_y);
+  EXPECT_NEAR(match.zncc, best, 1e-4);
+  EXPECT_GT(std::abs(match.point_j.y - 107.f), 1.5f);  // not the true shift, outside the band
+}
+
 }  // namespace
 }  // namespace pipescope

@@ -55,6 +55,11 @@ bool EssentialFromBearingsLinear(const std::vector<Eigen::Vector3d>& bearings_i,
 double SphereEpipolarError(const Eigen::Matrix3d& essential, const Eigen::Vector3d& bearing_i,
                            const Eigen::Vector3d& bearing_j);
 
+// SphereEpipolarError(essential, bearing_i, bearing_j) < threshold for unit bearings, the same
+// decision, without the second image's error where the first already reaches the threshold.
+bool IsSphereEpipolarInlier(const Eigen::Matrix3d& essential, const Eigen::Vector3d& bearing_i,
+                            const Eigen::Vector3d& bearing_j, double threshold);
+
 // The depths along eta_i and eta_j of the midpoint triangulation of one correspondence under
 // X_j = R X_i + t; false for near-parallel rays.
 bool TriangulateDepthsMidpoint(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,

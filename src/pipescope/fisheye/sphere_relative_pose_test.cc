@@ -125,6 +125,32 @@ TEST(SphereRelativePoseTest, LinearEssentialSatisfiesEpipolarConstraintAndDecomp
   EXPECT_NEAR(std::hypot(point_i.x(), point_i.y()), 0.2, 1e-9);
 }
 
+// An eight-point sample is solved by a QR of A^T, more points by the eigen-decomposition of
+// A^T A: on noise-free bearings both give the true essential matrix (the eight with a ninth
+// row repeated go the eigen way), and a sample of fewer than 8 independent rows is refused.
+TEST(SphereRelativePoseTest, EightPointSampleGivesTheEssentialOfMorePoints) {
+  const SphereScene scene = MakeScene(0.0, 0.0, 17);
+  for (int start = 0; start + 8 <= 40; start += 8) {
+    std::vector<int> sample(8);
+    for (int k = 0; k < 8; ++k) sample[k] = start + k;
+    Eigen::Matrix3d from_qr, from_eigen;
+    ASSERT_TRUE(EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, sample, &from_qr));
+    std::vector<int> nine = sample;
+    nine.push_back(sample[3]);
+    ASSERT_TRUE(EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, nine, &from_eigen));
+    const double sign = (from_qr.cwiseProduct(from_eigen)).sum() < 0 ? -1.0 : 1.0;
+    EXPECT_LT((from_qr - sign * from_eigen).norm(), 1e-8) << start;
+    for (int k = 0; k < 40; ++k) {
+      EXPECT_LT(SphereEpipolarError(from_qr, scene.bearings_i[k], scene.bearings_j[k]), 1e-9);
+    }
+    std::vector<int> repeated = sample;
+    repeated[7] = repeated[2];  // 7 independent rows
+    Eigen::Matrix3d refused;
+    EXPECT_FALSE(
+        EssentialFromBearingsLinear(scene.bearings_i, scene.bearings_j, repeated, &refused));
+  }
+}
+
 TEST(SphereRelativePoseTest, MotionPriorFindsThePoseAmongMostlyWrongMatches) {
   // 75 % wrong matches: an all-inlier eight-point sample has probability 0.25^8 = 1.5e-5, so
   // 200 random samples almost never find the pose; a prior a few tenths of a degree and a few
@@ -223,6 +249,48 @@ TEST(SphereRelativePoseTest, ParallelRansacTakesTheSequentialLoopsHypothesis) {
     EXPECT_EQ(pose.inliers, best_inliers) << threads << " threads";
   }
   cv::setNumThreads(-1);
+}
+
+// The inlier test that skips the second image's error decides as SphereEpipolarError < threshold
+// does: random essential matrices and unit bearings, most of them near the threshold (either
+// image's error just above or below it), and bearings at the epipoles, where a normal vanishes.
+TEST(SphereRelativePoseTest, InlierTestDecidesAsTheEpipolarError) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const auto random_unit = [&] {
+    return Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+  };
+  const double threshold = 0.004;
+  int inliers = 0, outliers = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Eigen::Matrix3d rotation =
+        Eigen::AngleAxisd(0.3 * uniform(rng), random_unit()).toRotationMatrix();
+    const Eigen::Vector3d translation = random_unit();
+    Eigen::Matrix3d skew;
+    skew << 0, -translation.z(), translation.y(), translation.z(), 0, -translation.x(),
+        -translation.y(), translation.x(), 0;
+    const Eigen::Matrix3d essential = skew * rotation;
+    const Eigen::Vector3d bearing_i =
+        trial % 50 == 0 ? Eigen::Vector3d(rotation.transpose() * translation) : random_unit();
+    Eigen::Vector3d bearing_j;
+    if (trial % 50 == 1) {
+      bearing_j = translation;  // at the epipole: E^T eta_j = 0
+    } else {
+      // On the epipolar plane of eta_i, then turned out of it by about the threshold.
+      const Eigen::Vector3d plane_normal = (essential * bearing_i).normalized();
+      const Eigen::Vector3d in_plane =
+          (random_unit() - random_unit().dot(plane_normal) * plane_normal).normalized();
+      const double angle = threshold * (0.6 + 0.6 * uniform(rng));
+      bearing_j = (std::cos(angle) * in_plane + std::sin(angle) * plane_normal).normalized();
+    }
+    const bool expected = SphereEpipolarError(essential, bearing_i, bearing_j) < threshold;
+    EXPECT_EQ(IsSphereEpipolarInlier(essential, bearing_i, bearing_j, threshold), expected)
+        << "trial " << trial;
+    (expected ? inliers : outliers) += 1;
+  }
+  EXPECT_GT(inliers, 500);  // both decisions are exercised
+  EXPECT_GT(outliers, 500);
 }
 
 TEST(SphereRelativePoseTest, TooFewCorrespondencesFail) {

@@ -8,9 +8,11 @@
 #include <cmath>
 
 #include "pipescope/fisheye/cylinder_axis_prior_error.h"
+#include "pipescope/fisheye/fisheye_reprojection_cost.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/solve_small_problem.h"
+#include "pipescope/fisheye/straight_cylinder_cost.h"
 #include "pipescope/fisheye/straight_cylinder_error.h"
 #include "pipescope/util/timer.h"
 
@@ -25,28 +27,6 @@ Eigen::Vector2d Residual(const Camera& camera, const StraightWindow& window,
   error(pose.rotation, pose.translation, window.points[observation.point].data(), residual);
   return Eigen::Vector2d(residual[0], residual[1]);
 }
-
-// Eq. 3 on a pose held as one block: quaternion (w, x, y, z), then translation.
-class PoseBlockReprojectionError {
- public:
-  PoseBlockReprojectionError(CameraModelId model_id, const std::vector<double>& params,
-                             const Eigen::Vector2d& observed)
-      : error_(model_id, params, observed) {}
-
-  template <typename T>
-  bool operator()(const T* cam_from_world, const T* point_world, T* residual) const {
-    return error_(cam_from_world, cam_from_world + 4, point_world, residual);
-  }
-
-  static ceres::CostFunction* Create(CameraModelId model_id, const std::vector<double>& params,
-                                     const Eigen::Vector2d& observed) {
-    return new ceres::AutoDiffCostFunction<PoseBlockReprojectionError, 2, 7, 3>(
-        new PoseBlockReprojectionError(model_id, params, observed));
-  }
-
- private:
-  FisheyeReprojectionError error_;
-};
 
 double ImageRms(const Camera& camera, const StraightWindow& window) {
   double sum = 0.0;
@@ -177,10 +157,10 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
       if (observation.pose == 0) {
         WindowPose& pose = window->poses[0];
         problem.AddResidualBlock(
-            FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), observation.pixel),
-            loss, pose.rotation, pose.translation, point);
+            new FisheyeReprojectionCost(camera.ModelId(), camera.Params(), observation.pixel), loss,
+            pose.rotation, pose.translation, point);
       } else {
-        problem.AddResidualBlock(PoseBlockReprojectionError::Create(
+        problem.AddResidualBlock(new FisheyePoseBlockReprojectionCost(
                                      camera.ModelId(), camera.Params(), observation.pixel),
                                  loss, pose_blocks[observation.pose].data(), point);
       }
@@ -188,7 +168,7 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     if (options.use_cylinder) {
       for (std::size_t k = 0; k < window->points.size(); ++k) {
         if (observation_count[k] < 2) continue;
-        problem.AddResidualBlock(StraightCylinderError::Create(options.radius_m, options.tau),
+        problem.AddResidualBlock(new StraightCylinderCost(options.radius_m, options.tau),
                                  new ceres::HuberLoss(options.huber_px), window->cylinder,
                                  window->poses[0].rotation, window->poses[0].translation,
                                  window->points[k].data());
@@ -222,7 +202,9 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     // cylinder to every camera that sees it) and small (6 per pose): a dense Cholesky of it is
     // cheaper than building and factoring a block-sparse one.
     solver_options.linear_solver_type = ceres::DENSE_SCHUR;
-    solver_options.max_num_iterations = options.max_iterations_per_stage;
+    const bool last_stage = stage + 1 >= std::max(1, options.stages);
+    solver_options.max_num_iterations = last_stage ? options.max_iterations_per_stage
+                                                   : options.max_iterations_before_outlier_removal;
     solver_options.num_threads = options.num_threads;
     solver_options.logging_type = ceres::SILENT;
     ceres::Solver::Summary solver_summary;

@@ -55,5 +55,39 @@ TEST(FisheyeTracking, FeaturesStayWithinTheViewAngle) {
   EXPECT_GT(LargestFeatureAngleDeg(simulation, whole_lens), defaults.max_view_angle_deg + 5.0);
 }
 
+// A key frame's descriptors reuse the rows computed for its detections and compute only the
+// guided matches': they must equal descriptors computed afresh at every feature.
+TEST(FisheyeTracking, KeyframeDescriptorsEqualFreshOnes) {
+  SimulationConfig config = PresetConfig("fiberglass-network");
+  config.layout = "straight";
+  config.length_m = 2.0;
+  config.width = 640;
+  config.height = 480;
+  config.frames = 6;
+  config.speed_m_s = 0.075;  // 1 cm a frame, as the benchmark
+  const Simulation simulation(config);
+  const FeatureTrackerOptions options;
+  FeatureTracker tracker(simulation.camera(), options);
+  int keyframes = 0, guided = 0;
+  for (int index = 0; index < config.frames; ++index) {
+    cv::Mat radiance = simulation.RenderFrameRadiance(index);
+    double peak = 0.0;
+    cv::minMaxLoc(radiance, nullptr, &peak);
+    cv::Mat grey;
+    radiance.convertTo(grey, CV_32F, 200.0 / std::max(peak, 1e-12));
+    TrackedKeyframe keyframe;
+    if (!tracker.Track(grey, index, &keyframe).keyframe) continue;
+    ++keyframes;
+    guided += keyframe.matches_guided;
+    std::vector<cv::Point2f> pixels;
+    for (const TrackedFeature& feature : keyframe.features) pixels.push_back(feature.pixel);
+    const cv::Mat fresh = ComputeTemplateDescriptors(grey, pixels, options.descriptor);
+    ASSERT_EQ(tracker.keyframe_descriptors().rows, fresh.rows);
+    EXPECT_EQ(cv::norm(tracker.keyframe_descriptors(), fresh, cv::NORM_INF), 0.0) << index;
+  }
+  EXPECT_GE(keyframes, 2);
+  EXPECT_GT(guided, 0);  // both kinds of rows were checked
+}
+
 }  // namespace
 }  // namespace pipescope
