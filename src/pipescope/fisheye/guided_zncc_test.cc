@@ -7,19 +7,41 @@
 namespace pipescope {
 namespace {
 
+Camera SmallFisheye() {
+  return Camera(CameraModelId::kFisheyePoly, 320, 240, {90.0, -1.0, 0.0, 0.0, 159.5, 119.5});
+}
+
+// The oracle: cv::matchTemplate's TM_CCOEFF_NORMED of the template at (150, 110) in grey_i over
+// the search box around the same place in grey_j; score (v, u) is pixel (150 - r + u, 110 - r + v).
+cv::Mat OpenCvScoresAround150x110(const cv::Mat& grey_i, const cv::Mat& grey_j,
+                                  const GuidedZnccOptions& options) {
+  const int half = options.template_size_px / 2;
+  const int r = options.search_radius_px;
+  const cv::Mat templ = grey_i(cv::Rect(150 - half, 110 - half, 2 * half + 1, 2 * half + 1));
+  const cv::Mat box =
+      grey_j(cv::Rect(150 - r - half, 110 - r - half, 2 * r + 2 * half + 1, 2 * r + 2 * half + 1));
+  cv::Mat scores;
+  cv::matchTemplate(box, templ, scores, cv::TM_CCOEFF_NORMED);
+  return scores;
+}
+
+// A blurred noise texture (320x240) and the same shifted by (4, -3) px.
+void ShiftedTexturePair(cv::Mat* grey_i, cv::Mat* grey_j) {
+  cv::Mat noise(240, 320, CV_32F);
+  cv::randu(noise, 0.0, 255.0);
+  cv::GaussianBlur(noise, *grey_i, cv::Size(5, 5), 1.5);
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 4, 0, 1, -3);
+  cv::warpAffine(*grey_i, *grey_j, shift, grey_i->size(), cv::INTER_LINEAR);
+}
+
 TEST(GuidedZncc, FindsTheBestPlaceOfOpenCvsNormalisedCorrelation) {
   // With an epipolar threshold every bearing passes, the guided search is a plain ZNCC search
   // over its box: its best pixel and score must be those of cv::matchTemplate
   // (TM_CCOEFF_NORMED) over the same box, the independent oracle.
-  const Camera camera(CameraModelId::kFisheyePoly, 320, 240, {90.0, -1.0, 0.0, 0.0, 159.5, 119.5});
+  const Camera camera = SmallFisheye();
   const BearingTable bearings(camera);
-  cv::Mat noise(240, 320, CV_32F);
-  cv::randu(noise, 0.0, 255.0);
-  cv::Mat grey_i;
-  cv::GaussianBlur(noise, grey_i, cv::Size(5, 5), 1.5);
-  cv::Mat grey_j;
-  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 4, 0, 1, -3);
-  cv::warpAffine(grey_i, grey_j, shift, grey_i.size(), cv::INTER_LINEAR);
+  cv::Mat grey_i, grey_j;
+  ShiftedTexturePair(&grey_i, &grey_j);
   cv::Mat disturbance(240, 320, CV_32F);
   cv::randn(disturbance, 0.0, 8.0);
   grey_j += disturbance;
@@ -35,13 +57,8 @@ TEST(GuidedZncc, FindsTheBestPlaceOfOpenCvsNormalisedCorrelation) {
                                              Eigen::Matrix3d::Identity(), bearings, options);
   ASSERT_TRUE(match.found);
 
-  const int half = options.template_size_px / 2;
   const int r = options.search_radius_px;
-  const cv::Mat templ = grey_i(cv::Rect(150 - half, 110 - half, 2 * half + 1, 2 * half + 1));
-  const cv::Mat box =
-      grey_j(cv::Rect(150 - r - half, 110 - r - half, 2 * r + 2 * half + 1, 2 * r + 2 * half + 1));
-  cv::Mat scores;
-  cv::matchTemplate(box, templ, scores, cv::TM_CCOEFF_NORMED);
+  const cv::Mat scores = OpenCvScoresAround150x110(grey_i, grey_j, options);
   double best;
   cv::Point best_at;
   cv::minMaxLoc(scores, nullptr, &best, nullptr, &best_at);
@@ -58,15 +75,10 @@ TEST(GuidedZncc, FindsTheBestPlaceOfOpenCvsNormalisedCorrelation) {
 // and the match must be cv::matchTemplate's best over the band's pixels (the band taken from
 // the bearing table's float bearings, as the search takes it).
 TEST(GuidedZncc, ScoresOnlyTheEpipolarBand) {
-  const Camera camera(CameraModelId::kFisheyePoly, 320, 240, {90.0, -1.0, 0.0, 0.0, 159.5, 119.5});
+  const Camera camera = SmallFisheye();
   const BearingTable bearings(camera);
-  cv::Mat noise(240, 320, CV_32F);
-  cv::randu(noise, 0.0, 255.0);
-  cv::Mat grey_i;
-  cv::GaussianBlur(noise, grey_i, cv::Size(5, 5), 1.5);
-  cv::Mat grey_j;
-  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 4, 0, 1, -3);
-  cv::warpAffine(grey_i, grey_j, shift, grey_i.size(), cv::INTER_LINEAR);
+  cv::Mat grey_i, grey_j;
+  ShiftedTexturePair(&grey_i, &grey_j);
 
   GuidedZnccOptions options;
   options.search_radius_px = 12;
@@ -81,13 +93,8 @@ TEST(GuidedZncc, ScoresOnlyTheEpipolarBand) {
       GuidedZnccSearch(grey_i, grey_j, point_i, bearing_i, essential, bearings, options);
   ASSERT_TRUE(match.found);
 
-  const int half = options.template_size_px / 2;
   const int r = options.search_radius_px;
-  const cv::Mat templ = grey_i(cv::Rect(150 - half, 110 - half, 2 * half + 1, 2 * half + 1));
-  const cv::Mat box =
-      grey_j(cv::Rect(150 - r - half, 110 - r - half, 2 * r + 2 * half + 1, 2 * r + 2 * half + 1));
-  cv::Mat scores;
-  cv::matchTemplate(box, templ, scores, cv::TM_CCOEFF_NORMED);
+  const cv::Mat scores = OpenCvScoresAround150x110(grey_i, grey_j, options);
   const Eigen::Vector3d normal = essential * bearing_i;
   const float n0 = static_cast<float>(normal.x()), n1 = static_cast<float>(normal.y()),
               n2 = static_cast<float>(normal.z());

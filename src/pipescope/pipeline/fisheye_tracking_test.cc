@@ -12,16 +12,33 @@
 namespace pipescope {
 namespace {
 
+// A straight stretch of the fisheye preset at 640x480.
+SimulationConfig StraightFisheyeConfig(int frames) {
+  SimulationConfig config = PresetConfig("fiberglass-network");
+  config.layout = "straight";
+  config.length_m = 2.0;
+  config.width = 640;
+  config.height = 480;
+  config.frames = frames;
+  return config;
+}
+
+// Frame `index` as the tracker takes it: the rendered radiance scaled to a peak of 200.
+cv::Mat RenderedGrey(const Simulation& simulation, int index) {
+  const cv::Mat radiance = simulation.RenderFrameRadiance(index);
+  double peak = 0.0;
+  cv::minMaxLoc(radiance, nullptr, &peak);
+  cv::Mat grey;
+  radiance.convertTo(grey, CV_32F, 200.0 / std::max(peak, 1e-12));
+  return grey;
+}
+
 // The largest angle from the optical axis among the features of the first key frames.
 double LargestFeatureAngleDeg(const Simulation& simulation, const FeatureTrackerOptions& options) {
   FeatureTracker tracker(simulation.camera(), options);
   double largest = 0.0;
   for (int index = 0; index < 3; ++index) {
-    cv::Mat radiance = simulation.RenderFrameRadiance(index);
-    double peak = 0.0;
-    cv::minMaxLoc(radiance, nullptr, &peak);
-    cv::Mat grey;
-    radiance.convertTo(grey, CV_32F, 200.0 / std::max(peak, 1e-12));
+    const cv::Mat grey = RenderedGrey(simulation, index);
     TrackedKeyframe keyframe;
     const TrackingStep step = tracker.Track(grey, index, &keyframe);
     if (!step.keyframe) continue;
@@ -33,13 +50,7 @@ double LargestFeatureAngleDeg(const Simulation& simulation, const FeatureTracker
 }
 
 TEST(FisheyeTracking, FeaturesStayWithinTheViewAngle) {
-  SimulationConfig config = PresetConfig("fiberglass-network");
-  config.layout = "straight";
-  config.length_m = 2.0;
-  config.width = 640;
-  config.height = 480;
-  config.frames = 3;
-  const Simulation simulation(config);
+  const Simulation simulation(StraightFisheyeConfig(3));
 
   const FeatureTrackerOptions defaults;
   EXPECT_EQ(defaults.max_view_angle_deg, 70.0);
@@ -58,23 +69,14 @@ TEST(FisheyeTracking, FeaturesStayWithinTheViewAngle) {
 // A key frame's descriptors reuse the rows computed for its detections and compute only the
 // guided matches': they must equal descriptors computed afresh at every feature.
 TEST(FisheyeTracking, KeyframeDescriptorsEqualFreshOnes) {
-  SimulationConfig config = PresetConfig("fiberglass-network");
-  config.layout = "straight";
-  config.length_m = 2.0;
-  config.width = 640;
-  config.height = 480;
-  config.frames = 6;
+  SimulationConfig config = StraightFisheyeConfig(6);
   config.speed_m_s = 0.075;  // 1 cm a frame, as the benchmark
   const Simulation simulation(config);
   const FeatureTrackerOptions options;
   FeatureTracker tracker(simulation.camera(), options);
   int keyframes = 0, guided = 0;
   for (int index = 0; index < config.frames; ++index) {
-    cv::Mat radiance = simulation.RenderFrameRadiance(index);
-    double peak = 0.0;
-    cv::minMaxLoc(radiance, nullptr, &peak);
-    cv::Mat grey;
-    radiance.convertTo(grey, CV_32F, 200.0 / std::max(peak, 1e-12));
+    const cv::Mat grey = RenderedGrey(simulation, index);
     TrackedKeyframe keyframe;
     if (!tracker.Track(grey, index, &keyframe).keyframe) continue;
     ++keyframes;
