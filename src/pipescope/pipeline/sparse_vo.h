@@ -76,7 +76,7 @@ struct SparseVoOptions {
   // instead of integrating its own drift of the wall distance (docs/sparse_vo.md).
   bool revisit = true;
   // The old key frame nearest along the pipe is tried when it is within this fraction of the
-  // start view's footprint on the wall along the pipe.
+  // start view's extent on the wall (its longer image side at the start's wall distance).
   double revisit_max_offset_fraction = 0.25;
   int revisit_min_inliers = 30;
   // Fewest inlier correspondences a frame needs to be localised at all.
