@@ -19,10 +19,10 @@ class OdometryCli : public testing::Test {
   // 000's 16-inch pipe at 320x240 registered at 160x120 (downsample 2): 30 frames, 80 mm.
   static void SetUpTestSuite() {
     dir_ = new std::filesystem::path(MakeTestDirectory("odometry_cli"));
-    const CommandResult simulate = RunPipescope(
-        "simulate --preset steel-16in --out " + Path("ds") +
-        " --frames 30 --set width=320 --set height=240 --set white_card_count=2"
-        " --set out_and_back=false -q");
+    const CommandResult simulate =
+        RunPipescope("simulate --preset steel-16in --out " + Path("ds") +
+                     " --frames 30 --set width=320 --set height=240 --set white_card_count=2"
+                     " --set out_and_back=false -q");
     ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
     WriteTextFileAtomically(*dir_ / "config.yaml", "downsample: 2\n");
   }
@@ -53,6 +53,7 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
     const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
     EXPECT_EQ(report["method"], method);
     EXPECT_EQ(report["options"]["downsample"], 2);
+    EXPECT_EQ(report["options"]["unrolled_registration"], "phase");
     EXPECT_EQ(report["counts"]["frames_localised"], 30);
     EXPECT_TRUE(report["failed_frames"].is_array());
     const cv::Mat mosaic = cv::imread(run + "/mosaic.png", cv::IMREAD_UNCHANGED);
@@ -69,6 +70,7 @@ TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {
   };
   WriteTextFileAtomically(*dir_ / "typo.yaml", "downsampel: 2\n");
   WriteTextFileAtomically(*dir_ / "range.yaml", "registration_band: 1.5\n");
+  WriteTextFileAtomically(*dir_ / "choice.yaml", "unrolled_registration: lk\n");
   const std::string ds = Path("ds");
   const std::vector<Case> cases = {
       {ds + " --method dense-foo --out " + Path("bad1"), "--method"},
@@ -79,13 +81,15 @@ TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {
       {ds + " --method dense-sad --out " + Path("bad4") + " --config " + Path("missing.yaml"),
        "missing.yaml"},
       {Path("nowhere") + " --method dense-sad --out " + Path("bad5"), "nowhere"},
+      {ds + " --method dense-unrolled --out " + Path("bad6") + " --config " + Path("choice.yaml"),
+       "unrolled_registration"},
   };
   for (const Case& c : cases) {
     const CommandResult result = RunPipescope("odometry " + c.arguments + " -q");
     EXPECT_EQ(result.exit_status, 2) << c.arguments << "\n" << result.output;
     EXPECT_NE(result.output.find(c.culprit), std::string::npos) << result.output;
   }
-  for (const char* run : {"bad1", "bad2", "bad3", "bad4", "bad5"}) {
+  for (const char* run : {"bad1", "bad2", "bad3", "bad4", "bad5", "bad6"}) {
     EXPECT_FALSE(std::filesystem::exists(Path(run))) << run;
   }
 }

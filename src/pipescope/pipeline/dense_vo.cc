@@ -66,6 +66,17 @@ void SetSearchWindowFromSpeed(const DatasetManifest& manifest, double zeta,
   options->registration.full_search.max_shift_y_px = along_image_x ? across : along;
 }
 
+// A still camera stays still (000 §4.2.3). Phase correlation has no still test of its own, so
+// on the unrolled wall a shift from the key frame below the hybrid method's still_shift_px is
+// taken as none. Frames are registered to the key frame, so what this drops never accrues.
+void HoldStillPhasePair(const PairRegistrationOptions& registration, PairMotion* motion) {
+  if (!motion->failure.empty() || motion->still) return;
+  if (std::hypot(motion->shift.x, motion->shift.y) < registration.hybrid.still_shift_px) {
+    motion->shift = cv::Point2d(0.0, 0.0);
+    motion->still = true;
+  }
+}
+
 }  // namespace
 
 double KeyFrameShiftFraction(DenseMethod method) {
@@ -154,9 +165,15 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         options.unrolled_margin_cells);
   }
 
-  const bool presmooth = options.presmooth_sigma_px > 0.0 &&
-                         (on_unrolled_wall || options.method == DenseMethod::kLucasKanade ||
-                          options.method == DenseMethod::kHybrid);
+  const DenseMethod registration_method =
+      on_unrolled_wall ? options.unrolled_registration : options.method;
+  PairRegistrationOptions registration = options.registration;
+  // On the unrolled wall roll is a translation: phase correlation's rotation (003 eq. 7) would
+  // only add noise.
+  if (on_unrolled_wall) registration.phase.estimate_rotation = false;
+  const bool presmooth =
+      options.presmooth_sigma_px > 0.0 && (registration_method == DenseMethod::kLucasKanade ||
+                                           registration_method == DenseMethod::kHybrid);
   DenseVoResult result;
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
   ImageSourceOptions source_options{camera.Width(), camera.Height()};
@@ -222,11 +239,11 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
                          " % of the pixels saturated";
       } else {
-        // dense-unrolled registers the unrolled pair with the hybrid method.
-        const DenseMethod registration_method =
-            on_unrolled_wall ? DenseMethod::kHybrid : options.method;
-        motion = RegisterPlanarPair(registration_method, key->image, current, options.registration,
+        motion = RegisterPlanarPair(registration_method, key->image, current, registration,
                                     previous_shift + step, previous_rotation + step_rotation);
+        if (on_unrolled_wall && registration_method == DenseMethod::kPhase) {
+          HoldStillPhasePair(registration, &motion);
+        }
       }
       if (motion.failure.empty()) {
         velocity_shift = motion.shift - previous_shift;

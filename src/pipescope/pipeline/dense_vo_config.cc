@@ -28,7 +28,8 @@ const std::set<std::string> kKeys = {"downsample",
                                      "key_frame_shift_fraction",
                                      "key_frame_max_rounding_px",
                                      "key_frame_wait_fraction",
-                                     "presmooth_sigma_px"};
+                                     "presmooth_sigma_px",
+                                     "unrolled_registration"};
 
 void RequireRange(const std::filesystem::path& file, const std::string& key, double value,
                   double low, double high) {
@@ -105,6 +106,14 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "presmooth_sigma_px", *value, 0.0, 10.0);
     options->presmooth_sigma_px = *value;
   }
+  if (auto value = OptionalYamlValue<std::string>(root, "unrolled_registration", path)) {
+    if (*value != "phase" && *value != "hybrid") {
+      throw InputError(path.string() +
+                       ": key 'unrolled_registration' must be phase or hybrid, got '" + *value +
+                       "'");
+    }
+    options->unrolled_registration = *value == "phase" ? DenseMethod::kPhase : DenseMethod::kHybrid;
+  }
   if (auto value = OptionalYamlValue<bool>(root, "mosaic", path)) options->build_mosaic = *value;
   if (auto value = OptionalYamlValue<double>(root, "mosaic_spacing_px", path)) {
     RequireRange(path, "mosaic_spacing_px", *value, 0.0, 1e6);
@@ -136,6 +145,8 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
       {"key_frame_max_rounding_px", options.key_frame_max_rounding_px},
       {"key_frame_wait_fraction", options.key_frame_wait_fraction},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
+      {"unrolled_registration",
+       options.unrolled_registration == DenseMethod::kPhase ? "phase" : "hybrid"},
       {"mosaic", options.build_mosaic},
       {"mosaic_spacing_px", options.mosaic_spacing_px},
       {"max_speed_m_s",

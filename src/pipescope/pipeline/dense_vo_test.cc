@@ -69,6 +69,7 @@ Metrics RunAndEvaluate(const std::filesystem::path& dataset, const DenseVoOption
 struct AccuracyCase {
   DenseMethod method;
   double max_distance_error_pct;
+  DenseMethod unrolled_registration = DenseMethod::kPhase;  // dense-unrolled only
 };
 
 class DenseVoAccuracy : public ::testing::TestWithParam<AccuracyCase> {};
@@ -78,8 +79,9 @@ class DenseVoAccuracy : public ::testing::TestWithParam<AccuracyCase> {};
 // the sub-pixel methods do not.
 TEST_P(DenseVoAccuracy, ShortRunStaysWithinBound) {
   DenseVoResult result;
-  const Metrics metrics =
-      RunAndEvaluate(ShortSteelRun(), HalfResolutionOptions(GetParam().method), &result);
+  DenseVoOptions options = HalfResolutionOptions(GetParam().method);
+  options.unrolled_registration = GetParam().unrolled_registration;
+  const Metrics metrics = RunAndEvaluate(ShortSteelRun(), options, &result);
   ASSERT_EQ(result.trajectory.size(), 90u);
   // A failed pair is flagged and predicted, which is the designed behaviour, but it must be rare.
   EXPECT_LE(result.failed_pairs, 2);
@@ -91,20 +93,24 @@ TEST_P(DenseVoAccuracy, ShortRunStaysWithinBound) {
               *metrics.distance_error_pct);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, DenseVoAccuracy,
-                         ::testing::Values(AccuracyCase{DenseMethod::kSad, 0.5},
-                                           AccuracyCase{DenseMethod::kSsd, 0.5},
-                                           AccuracyCase{DenseMethod::kZncc, 0.5},
-                                           AccuracyCase{DenseMethod::kLucasKanade, 0.1},
-                                           AccuracyCase{DenseMethod::kHybrid, 0.1},
-                                           AccuracyCase{DenseMethod::kPhase, 0.15},
-                                           AccuracyCase{DenseMethod::kUnrolled, 0.1},
-                                           AccuracyCase{DenseMethod::kOpenCvPhase, 0.5}),
-                         [](const ::testing::TestParamInfo<AccuracyCase>& info) {
-                           std::string name = DenseMethodName(info.param.method);
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Methods, DenseVoAccuracy,
+    ::testing::Values(AccuracyCase{DenseMethod::kSad, 0.5}, AccuracyCase{DenseMethod::kSsd, 0.5},
+                      AccuracyCase{DenseMethod::kZncc, 0.5},
+                      AccuracyCase{DenseMethod::kLucasKanade, 0.1},
+                      AccuracyCase{DenseMethod::kHybrid, 0.1},
+                      AccuracyCase{DenseMethod::kPhase, 0.15},
+                      AccuracyCase{DenseMethod::kUnrolled, 0.1},
+                      AccuracyCase{DenseMethod::kUnrolled, 0.1, DenseMethod::kHybrid},
+                      AccuracyCase{DenseMethod::kOpenCvPhase, 0.5}),
+    [](const ::testing::TestParamInfo<AccuracyCase>& info) {
+      std::string name = DenseMethodName(info.param.method);
+      if (info.param.method == DenseMethod::kUnrolled) {
+        name += "_" + DenseMethodName(info.param.unrolled_registration);
+      }
+      for (char& c : name) c = c == '-' ? '_' : c;
+      return name;
+    });
 
 // Registering to key frames instead of the frame before cuts the rounding that integer full
 // search accumulates (one rounding per key frame instead of per frame).
