@@ -54,6 +54,7 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
     EXPECT_EQ(report["method"], method);
     EXPECT_EQ(report["options"]["downsample"], 2);
     EXPECT_EQ(report["options"]["unrolled_registration"], "phase");
+    EXPECT_EQ(report["counts"]["pairs_integer_only"], report["integer_only_frames"].size());
     EXPECT_EQ(report["counts"]["frames_localised"], 30);
     EXPECT_TRUE(report["failed_frames"].is_array());
     const cv::Mat mosaic = cv::imread(run + "/mosaic.png", cv::IMREAD_UNCHANGED);

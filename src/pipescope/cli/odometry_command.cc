@@ -181,6 +181,12 @@ int RunOdometry(const OdometryFlags& flags) {
   long long still = 0;
   for (const DenseFrameRecord& frame : result.frames) still += frame.still ? 1 : 0;
   report.SetCount("pairs_still", still);
+  // dense-hybrid's pairs whose sub-pixel refinement was not used: reported, not hidden.
+  nlohmann::json integer_only = nlohmann::json::array();
+  for (const DenseFrameRecord& frame : result.frames) {
+    if (frame.integer_only) integer_only.push_back(frame.index);
+  }
+  report.SetCount("pairs_integer_only", static_cast<long long>(integer_only.size()));
   long long key_frames = 0;
   for (const DenseFrameRecord& frame : result.frames) key_frames += frame.key_frame ? 1 : 0;
   report.SetCount("key_frames", key_frames);
@@ -191,6 +197,12 @@ int RunOdometry(const OdometryFlags& flags) {
   report.AddTiming("odometry_loop_cpu", result.loop_cpu_seconds);
   report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
+  report.Extra("integer_only_frames") = integer_only;
+  if (!integer_only.empty()) {
+    report.Warn(std::to_string(integer_only.size()) +
+                " frame pairs kept the full search's whole-pixel shift: the Gauss-Newton "
+                "refinement did not converge or moved too far (see integer_only_frames)");
+  }
   if (result.failed_pairs > 0) {
     report.Warn(std::to_string(result.failed_pairs) +
                 " frame pairs failed to register; their motion was predicted at constant "

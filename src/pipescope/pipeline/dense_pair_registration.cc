@@ -131,6 +131,7 @@ PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, cons
       motion.shift = result.shift + cv::Point2d(pair.offset);
       // Still means no motion from the reference, not none from the prediction.
       motion.still = result.still && pair.offset == cv::Point(0, 0);
+      motion.integer_only = !result.refined && !motion.still;
       if (std::abs(result.integer_shift.x) == options.full_search.max_shift_x_px ||
           std::abs(result.integer_shift.y) == options.full_search.max_shift_y_px) {
         motion.failure = "best shift on the search window's edge";

@@ -58,7 +58,10 @@ struct PairMotion {
   double rotation_rad = 0.0;
   double correlation = 0.0;  // ZNCC of the overlap at the rounded shift
   bool still = false;        // dense-hybrid reported exactly no motion
-  std::string failure;       // why the pair cannot be used; empty when it can
+  // dense-hybrid: the Gauss-Newton refinement did not converge or moved too far
+  // (HybridOptions::max_refinement_px), so the full search's whole-pixel shift was kept.
+  bool integer_only = false;
+  std::string failure;  // why the pair cannot be used; empty when it can
   // The integer full searches (dense-sad, -ssd, -zncc) only: how far the cost's minimum lies
   // from the reported whole-pixel shift (dense/full_search.h RoundingResidual).
   std::optional<cv::Point2d> rounding_residual;

@@ -77,6 +77,24 @@ TEST(PlanarPairRegistration, FullSearchWindowFollowsThePrediction) {
   }
 }
 
+// 000 §4.2.3's hybrid keeps the full search's whole-pixel shift when the refinement is not
+// accepted; the pair says so instead of passing the integer off as sub-pixel.
+TEST(PlanarPairRegistration, HybridSaysWhenItKeptTheWholePixelShift) {
+  const cv::Point2d truth(5.37, -1.62);
+  const RegistrationPair pair = MakeRegistrationPair({160, 120}, truth, 0.0, 1.0, 11);
+  const PairMotion refined =
+      RegisterPlanarPair(DenseMethod::kHybrid, pair.reference, pair.next, {}, {5.0, -1.0});
+  EXPECT_FALSE(refined.integer_only);
+  EXPECT_LT(Distance(refined.shift, truth), 0.05) << refined.shift;
+  PairRegistrationOptions options;
+  options.hybrid.max_refinement_px = 0.1;  // the 0.37 px and 0.38 px corrections are rejected
+  const PairMotion kept =
+      RegisterPlanarPair(DenseMethod::kHybrid, pair.reference, pair.next, options, {5.0, -1.0});
+  EXPECT_TRUE(kept.integer_only);
+  EXPECT_TRUE(kept.failure.empty()) << kept.failure;
+  EXPECT_EQ(kept.shift, cv::Point2d(5.0, -2.0));
+}
+
 TEST(PlanarPairRegistration, PhaseRecoversRotation) {
   const double rotation = 2.5 * M_PI / 180.0;
   const RegistrationPair pair = MakeRegistrationPair({256, 192}, {3.2, 1.1}, rotation, 1.0, 5);

@@ -92,10 +92,13 @@ bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size fra
            std::abs(motion.shift.y) >= fraction * frame.height;
   };
   if (!beyond(shift_fraction)) return false;
-  if (!motion.rounding_residual || shift_fraction <= 0.0 ||
-      beyond(shift_fraction + options.key_frame_wait_fraction)) {
+  if (shift_fraction <= 0.0 || beyond(shift_fraction + options.key_frame_wait_fraction)) {
     return true;
   }
+  // A whole-pixel shift kept by dense-hybrid carries up to half a pixel into every later frame
+  // if it becomes the key frame; the next frame's refinement will most likely do.
+  if (motion.integer_only) return false;
+  if (!motion.rounding_residual) return true;
   const cv::Point2d& residual = *motion.rounding_residual;
   return std::abs(along_image_x ? residual.x : residual.y) <= options.key_frame_max_rounding_px;
 }
@@ -258,6 +261,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       record.rotation_rad = motion.rotation_rad - previous_rotation;
       record.correlation = motion.correlation;
       record.still = motion.still;
+      record.integer_only = motion.integer_only;
       record.failure = motion.failure;
       if (on_unrolled_wall) {
         travel = key->travel + unrolled->TravelFromShift(motion.shift);

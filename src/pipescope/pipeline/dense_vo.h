@@ -91,7 +91,8 @@ struct DenseFrameRecord {
   double rotation_rad = 0.0;  // phase only
   double correlation = 0.0;   // overlap ZNCC after registration
   bool still = false;
-  bool key_frame = false;  // later frames were registered to this one
+  bool integer_only = false;  // dense-hybrid kept the whole-pixel shift (PairMotion)
+  bool key_frame = false;     // later frames were registered to this one
   // Why the registration failed and the motion was predicted at constant velocity; empty when
   // it did not (and for the first frame).
   std::string failure;
@@ -130,7 +131,8 @@ double KeyFrameShiftFraction(DenseMethod method);
 // Whether a frame registered to the key frame without failure, with `motion` from it, becomes
 // the next key frame: its shift has reached shift_fraction of `frame` along either axis and,
 // for an integer search, its rounding residual along the pipe is small enough or the wait is over
-// (DenseVoOptions' key_frame_max_rounding_px and key_frame_wait_fraction).
+// (DenseVoOptions' key_frame_max_rounding_px and key_frame_wait_fraction); a pair whose hybrid
+// refinement was not used (PairMotion::integer_only) waits likewise.
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
                    bool along_image_x, const DenseVoOptions& options);
 

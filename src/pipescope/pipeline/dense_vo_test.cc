@@ -147,6 +147,11 @@ TEST(DenseVo, IntegerSearchWaitsForALowRoundingKeyFrame) {
   EXPECT_TRUE(KeyFrameIsDue(motion, 0.0, frame, true, options));
   motion.rounding_residual.reset();
   EXPECT_TRUE(KeyFrameIsDue(motion, 0.4, frame, true, options));
+  // A hybrid pair that kept the whole-pixel shift waits too, until the wait is over.
+  motion.integer_only = true;
+  EXPECT_FALSE(KeyFrameIsDue(motion, 0.4, frame, true, options));
+  motion.shift = {100.0, 3.0};
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.4, frame, true, options));
 }
 
 // The travel error each key frame adds to the one before it (metres): the estimated minus the
@@ -212,6 +217,23 @@ TEST(DenseVo, StillCameraStaysStill) {
           << DenseMethodName(method);
     }
   }
+}
+
+// Frames whose hybrid refinement was not used are marked, not passed off as sub-pixel.
+TEST(DenseVo, HybridMarksPairsKeptAtTheWholePixel) {
+  const DatasetManifest manifest = OpenDataset(ShortSteelRun());
+  const Camera camera = ReadCamera(manifest.camera_path);
+  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
+  const auto count_integer_only = [](const DenseVoResult& result) {
+    int count = 0;
+    for (const DenseFrameRecord& frame : result.frames) count += frame.integer_only ? 1 : 0;
+    return count;
+  };
+  EXPECT_EQ(count_integer_only(RunDenseVo(manifest, camera, options)), 0);
+  // No correction is small enough: every registered pair keeps the full search's shift.
+  options.registration.hybrid.max_refinement_px = 1e-9;
+  const DenseVoResult whole_pixel = RunDenseVo(manifest, camera, options);
+  EXPECT_EQ(count_integer_only(whole_pixel), static_cast<int>(whole_pixel.frames.size()) - 1);
 }
 
 // The turn about the optical axis from the first pose to the last, in degrees.
