@@ -80,6 +80,30 @@ TEST_F(MapCli, WritesTheRunDirectory) {
   EXPECT_FALSE(strip.empty());
 }
 
+// The odometry overlapped with the tracking sees the same key frames and sections in the same
+// order as the odometry run after it: the same poses to the last digit (Ceres on one thread,
+// whose multi-threaded sums may round differently), and the same on a second overlapped run.
+TEST_F(MapCli, OverlappedOdometryGivesTheSequentialPoses) {
+  const auto run_with = [&](const std::string& name, const std::string& extra) {
+    WriteTextFileAtomically(*dir_ / (name + ".yaml"),
+                            "window_interval: 8\nmin_cluster_size: 3\nwindow_threads: 1\n" + extra);
+    const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + Path(name) +
+                                              " --config " + Path(name + ".yaml") + " -q");
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    return ReadTextFile(Path(name) + "/keyframes.tum");
+  };
+  const std::string sequential = run_with("sequential", "overlap_odometry: false\n");
+  const std::string overlapped = run_with("overlapped", "");
+  const std::string again = run_with("overlapped_again", "");
+  ASSERT_GE(CountPoses(Path("sequential") + "/keyframes.tum"), 16);
+  EXPECT_EQ(overlapped, sequential);
+  EXPECT_EQ(again, sequential);
+  const nlohmann::json report =
+      nlohmann::json::parse(ReadTextFile(Path("overlapped") + "/run.json"));
+  EXPECT_TRUE(report["options"]["overlap_odometry"].get<bool>());
+  EXPECT_GE(report["windows"].size(), 2u);
+}
+
 TEST_F(MapCli, BadInputExitsTwoAndNamesTheCulprit) {
   struct Case {
     std::string arguments;

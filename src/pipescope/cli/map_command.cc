@@ -76,7 +76,8 @@ std::map<std::string, int*> IntKeys(FisheyeMappingOptions* o) {
       {"max_iterations_before_outlier_removal", &o->window.max_iterations_before_outlier_removal},
       {"min_cylinder_scale_points", &o->min_cylinder_scale_points},
       {"speed_history", &o->speed_history},
-      {"stale_axis_keyframes", &o->stale_axis_keyframes}};
+      {"stale_axis_keyframes", &o->stale_axis_keyframes},
+      {"window_threads", &o->window.num_threads}};
 }
 
 void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
@@ -108,6 +109,8 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
         options->retriangulate_in_window = entry.second.as<bool>();
       } else if (key == "axis_prior") {
         options->axis_prior = entry.second.as<bool>();
+      } else if (key == "overlap_odometry") {
+        options->overlap_odometry = entry.second.as<bool>();
       } else {
         throw InputError("--config " + path + ": unknown key '" + key + "'");
       }
@@ -115,9 +118,11 @@ void ApplyMapConfig(const std::string& path, FisheyeMappingOptions* options) {
       throw InputError("--config " + path + ": key '" + key + "' has a malformed value");
     }
   }
-  if (options->window_interval < 1 || options->window_size < 3 || options->speed_history < 1) {
+  if (options->window_interval < 1 || options->window_size < 3 || options->speed_history < 1 ||
+      options->window.num_threads < 1) {
     throw InputError("--config " + path +
-                     ": window_interval must be >= 1, window_size >= 3, speed_history >= 1");
+                     ": window_interval must be >= 1, window_size >= 3, speed_history >= 1, "
+                     "window_threads >= 1");
   }
 }
 
@@ -131,6 +136,7 @@ nlohmann::json OptionsJson(FisheyeMappingOptions options) {
   json["fit_axis_per_step"] = options.fit_axis_per_step;
   json["retriangulate_in_window"] = options.retriangulate_in_window;
   json["axis_prior"] = options.axis_prior;
+  json["overlap_odometry"] = options.overlap_odometry;
   json["radius_m"] = options.window.radius_m;
   return json;
 }
@@ -233,6 +239,7 @@ int RunMap(const MapFlags& flags) {
   report.AddTiming("tracking_cpu", result.tracking_cpu_seconds);
   report.AddTiming("classification_cpu", result.classification_cpu_seconds);
   report.AddTiming("odometry_cpu", result.odometry_cpu_seconds);
+  report.AddTiming("odometry_wait", result.odometry_wait_seconds);
   nlohmann::json classification = nlohmann::json::array();
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     classification.push_back({{"frame", keyframe.frame_index},

@@ -23,6 +23,64 @@ BearingTable::BearingTable(const Camera& camera, double max_view_angle_rad)
       valid_.at<uchar>(y, x) = 255;
     }
   }
+  run_begin_.assign(camera.Height(), 0);
+  run_end_.assign(camera.Height(), 0);
+  max_column_step_ = cv::Vec3f(0.f, 0.f, 0.f);
+  for (int y = 0; y < camera.Height(); ++y) {
+    const uchar* valid_row = valid_.ptr<uchar>(y);
+    const cv::Vec3f* eta_row = bearings_.ptr<cv::Vec3f>(y);
+    int runs = 0;
+    for (int x = 0; x < camera.Width(); ++x) {
+      if (!valid_row[x]) continue;
+      if (x == 0 || !valid_row[x - 1]) {
+        ++runs;
+        run_begin_[y] = x;
+      }
+      run_end_[y] = x + 1;
+      if (x > 0 && valid_row[x - 1]) {
+        for (int c = 0; c < 3; ++c) {
+          max_column_step_[c] =
+              std::max(max_column_step_[c], std::abs(eta_row[x][c] - eta_row[x - 1][c]));
+        }
+      }
+    }
+    if (runs > 1) run_begin_[y] = -1;
+  }
+}
+
+void BearingTable::EpipolarBandColumns(int y, int x0, int x1, const cv::Vec3f& normal,
+                                       float threshold, std::vector<int>* band) const {
+  band->clear();
+  const cv::Vec3f* eta_row = bearings_.ptr<cv::Vec3f>(y);
+  const uchar* valid_row = valid_.ptr<uchar>(y);
+  const auto distance = [&](int x) {
+    const cv::Vec3f& eta = eta_row[x];
+    return std::abs(eta[0] * normal[0] + eta[1] * normal[1] + eta[2] * normal[2]);
+  };
+  const bool one_run = run_begin_[y] >= 0;
+  const int first = one_run ? std::max(x0, run_begin_[y]) : x0;
+  const int last = one_run ? std::min(x1, run_end_[y] - 1) : x1;
+  // Along the run |eta . normal| changes by at most `slope` a column; the margin covers the
+  // float rounding of the products (a few 1e-8 of |normal|), so no skipped pixel is in the band.
+  const float slope = std::abs(normal[0]) * max_column_step_[0] +
+                      std::abs(normal[1]) * max_column_step_[1] +
+                      std::abs(normal[2]) * max_column_step_[2];
+  const float margin =
+      1e-5f * (std::abs(normal[0]) + std::abs(normal[1]) + std::abs(normal[2])) + 1e-7f;
+  // Chunks of columns, each skipped when its middle column is farther off the band than the
+  // chunk's ends can come back: most of the search box is far from the band.
+  constexpr int kChunk = 8;
+  for (int begin = first; begin <= last; begin += kChunk) {
+    const int end = std::min(last, begin + kChunk - 1);
+    const int middle = (begin + end) / 2;
+    if (one_run &&
+        distance(middle) - static_cast<float>(end - middle) * slope >= threshold + margin) {
+      continue;
+    }
+    for (int x = begin; x <= end; ++x) {
+      if (valid_row[x] && distance(x) < threshold) band->push_back(x);
+    }
+  }
 }
 
 namespace {
@@ -100,15 +158,7 @@ GuidedMatch GuidedZnccSearch(const cv::Mat& grey_i, const cv::Mat& grey_j,
   std::vector<int> band;  // the band's columns in one row, ascending
   band.reserve(x1 - x0 + 1);
   for (int y = y0; y <= y1; ++y) {
-    const cv::Vec3f* eta_row = bearings.bearing_mat().ptr<cv::Vec3f>(y);
-    const uchar* valid_row = bearings.valid_mask().ptr<uchar>(y);
-    band.clear();
-    for (int x = x0; x <= x1; ++x) {
-      if (!valid_row[x]) continue;
-      const cv::Vec3f& eta = eta_row[x];
-      if (std::abs(eta[0] * n0 + eta[1] * n1 + eta[2] * n2) >= threshold) continue;
-      band.push_back(x);
-    }
+    bearings.EpipolarBandColumns(y, x0, x1, cv::Vec3f(n0, n1, n2), threshold, &band);
     // The cross terms sum(t p), four adjacent columns at a time where the band has them: each
     // lane adds its products in the order one column alone does, so the floats are the same.
     for (std::size_t i = 0; i < band.size();) {

@@ -26,9 +26,21 @@ class BearingTable {
   int width() const { return bearings_.cols; }
   int height() const { return bearings_.rows; }
 
+  // The columns x0..x1 of row y whose bearing eta is valid and satisfies |eta . normal| <
+  // threshold (the epipolar band of 001 §III-A, normal = E eta_i), ascending, into `band`.
+  // Exactly the columns a test of every pixel finds: a chunk of columns whose middle pixel is
+  // far enough outside the band is skipped whole, since along a row's valid run each bearing
+  // component changes by at most max_column_step_ from one column to the next.
+  void EpipolarBandColumns(int y, int x0, int x1, const cv::Vec3f& normal, float threshold,
+                           std::vector<int>* band) const;
+
  private:
   cv::Mat bearings_;  // CV_32FC3
   cv::Mat valid_;     // CV_8U
+  // Per row: the valid columns [begin, end) when they are one run; a row with several runs is
+  // tested pixel by pixel (run_begin_ = -1).
+  std::vector<int> run_begin_, run_end_;
+  cv::Vec3f max_column_step_;  // per component, over horizontally adjacent valid pixels
 };
 
 // Epipolar-guided ZNCC (001 §III-A): for a feature of image i, the pixel of image j whose

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace pipescope {
 namespace {
@@ -122,6 +124,42 @@ TEST(GuidedZncc, ScoresOnlyTheEpipolarBand) {
   EXPECT_EQ(std::lround(match.point_j.y), best_y);
   EXPECT_NEAR(match.zncc, best, 1e-4);
   EXPECT_GT(std::abs(match.point_j.y - 107.f), 1.5f);  // not the true shift, outside the band
+}
+
+// The band's columns found with the skips are exactly those a test of every pixel finds, for
+// random epipolar normals (E eta_i has norm up to 1 with |E|_F = sqrt(2)), rows and spans, on
+// the small test lens and on the benchmark's 1280x960 190-degree lens cut at 70 degrees.
+TEST(GuidedZncc, BandColumnsEqualTestingEveryPixel) {
+  const Camera benchmark_lens(CameraModelId::kFisheyePoly, 1280, 960,
+                              {291.72458689307223, -2.9172458689307228, 0, 0, 639.5, 479.5});
+  const std::vector<BearingTable> tables = {BearingTable(SmallFisheye()),
+                                            BearingTable(benchmark_lens, 70.0 * M_PI / 180.0)};
+  cv::RNG rng(5);
+  std::vector<int> band;
+  long band_pixels = 0;
+  for (const BearingTable& bearings : tables) {
+    for (int trial = 0; trial < 3000; ++trial) {
+      const cv::Vec3f normal(rng.uniform(-1.f, 1.f), rng.uniform(-1.f, 1.f),
+                             rng.uniform(-1.f, 1.f));
+      const float threshold = trial % 3 == 0 ? 0.001f : (trial % 3 == 1 ? 0.006f : 0.05f);
+      const int y = rng.uniform(0, bearings.height());
+      const int x0 = rng.uniform(0, bearings.width());
+      const int x1 = std::min(bearings.width() - 1, x0 + rng.uniform(0, 200));
+      bearings.EpipolarBandColumns(y, x0, x1, normal, threshold, &band);
+      std::vector<int> every_pixel;
+      const cv::Vec3f* eta_row = bearings.bearing_mat().ptr<cv::Vec3f>(y);
+      for (int x = x0; x <= x1; ++x) {
+        const cv::Vec3f& eta = eta_row[x];
+        if (bearings.Valid(x, y) &&
+            std::abs(eta[0] * normal[0] + eta[1] * normal[1] + eta[2] * normal[2]) < threshold) {
+          every_pixel.push_back(x);
+        }
+      }
+      ASSERT_EQ(band, every_pixel) << "trial " << trial << " row " << y;
+      band_pixels += static_cast<long>(band.size());
+    }
+  }
+  EXPECT_GT(band_pixels, 1000);
 }
 
 }  // namespace

@@ -164,6 +164,16 @@ std::vector<PipeViewClass> FilterPipeViewClasses(const std::vector<PipeViewClass
   return filtered;
 }
 
+int SettledPipeViewClassCount(const std::vector<PipeViewClass>& classes, int min_cluster_size) {
+  int run_length = 0;
+  int settled = 0;
+  for (int k = 0; k < static_cast<int>(classes.size()); ++k) {
+    run_length = k > 0 && classes[k] == classes[k - 1] ? run_length + 1 : 1;
+    if (run_length >= min_cluster_size) settled = k + 1;
+  }
+  return settled;
+}
+
 cv::Mat DrawClassificationStrip(const std::vector<PipeViewClass>& initial,
                                 const std::vector<PipeViewClass>& filtered, int width_px,
                                 int row_height_px) {

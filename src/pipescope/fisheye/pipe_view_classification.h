@@ -70,6 +70,13 @@ class PipeViewClassifier {
 std::vector<PipeViewClass> FilterPipeViewClasses(const std::vector<PipeViewClass>& classes,
                                                  int min_cluster_size);
 
+// How many leading classes of `classes` are settled: FilterPipeViewClasses gives them the same
+// filtered classes however the sequence continues. A run at least `min_cluster_size` long is
+// never merged away and only separates the merges on either side of it (a merge flips one run
+// between two of the other class), so everything up to the end of the last such run is
+// settled. Lets the odometry start on a straight section while the tracking goes on.
+int SettledPipeViewClassCount(const std::vector<PipeViewClass>& classes, int min_cluster_size);
+
 // A strip image like 001 Fig. 3d: one column per key frame (scaled to `width_px`), the initial
 // classes on top and the filtered ones below; straight is light grey, T-intersection black.
 cv::Mat DrawClassificationStrip(const std::vector<PipeViewClass>& initial,

@@ -4,6 +4,7 @@
 
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "pipescope/synthetic/presets.h"
 #include "pipescope/synthetic/sensor.h"
@@ -92,6 +93,53 @@ TEST(PipeViewClassificationTest, FilteringEnforcesMinimumClusterSize) {
   EXPECT_EQ(FilterPipeViewClasses(expected, 5), expected);
   // A single short run in a sequence of one class vanishes.
   EXPECT_EQ(FilterPipeViewClasses({S, S, S, T, S, S, S}, 2), std::vector<C>(7, S));
+}
+
+TEST(PipeViewClassificationTest, SettledCountEndsAtTheLastLongRun) {
+  using C = PipeViewClass;
+  const C S = C::kStraight, T = C::kTIntersection;
+  EXPECT_EQ(SettledPipeViewClassCount({S, S, T, S, S}, 3), 0);
+  EXPECT_EQ(SettledPipeViewClassCount({S, S, S, T, S}, 3), 3);
+  EXPECT_EQ(SettledPipeViewClassCount({S, S, S, T, T, T, T, S, S}, 3), 7);
+  EXPECT_EQ(SettledPipeViewClassCount({T, S, S, S}, 3), 4);
+  EXPECT_EQ(SettledPipeViewClassCount({T, S}, 1), 2);
+}
+
+// The settled classes of every prefix equal the whole sequence's filtered classes, on random
+// sequences from steady (long runs, rare flickers) to noisy ones.
+TEST(PipeViewClassificationTest, SettledPrefixFiltersAsTheWholeSequence) {
+  using C = PipeViewClass;
+  std::mt19937 generator(7);
+  int settled_total = 0;
+  for (const double flip_probability : {0.02, 0.1, 0.3, 0.5}) {
+    for (const int min_cluster_size : {1, 3, 10}) {
+      for (int trial = 0; trial < 20; ++trial) {
+        std::bernoulli_distribution flip(flip_probability);
+        std::vector<C> classes;
+        C current = C::kStraight;
+        for (int k = 0; k < 300; ++k) {
+          if (flip(generator)) {
+            current = current == C::kStraight ? C::kTIntersection : C::kStraight;
+          }
+          classes.push_back(current);
+        }
+        const std::vector<C> whole = FilterPipeViewClasses(classes, min_cluster_size);
+        for (std::size_t length = 1; length <= classes.size(); ++length) {
+          const std::vector<C> prefix(classes.begin(), classes.begin() + length);
+          const int settled = SettledPipeViewClassCount(prefix, min_cluster_size);
+          ASSERT_LE(settled, static_cast<int>(length));
+          const std::vector<C> filtered = FilterPipeViewClasses(prefix, min_cluster_size);
+          for (int k = 0; k < settled; ++k) {
+            ASSERT_EQ(filtered[k], whole[k])
+                << "flip " << flip_probability << " min " << min_cluster_size << " trial " << trial
+                << " prefix " << length << " key frame " << k;
+          }
+          settled_total += settled;
+        }
+      }
+    }
+  }
+  EXPECT_GT(settled_total, 0);
 }
 
 TEST(PipeViewClassificationTest, RoundCentralBlobIsStraightOffCentreIsT) {

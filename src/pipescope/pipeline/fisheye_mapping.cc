@@ -4,19 +4,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <exception>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
 #include <unordered_map>
 
 #include "pipescope/fisheye/cylinder_scale.h"
 #include "pipescope/fisheye/fisheye_reprojection_error.h"
 #include "pipescope/fisheye/median.h"
 #include "pipescope/fisheye/multiview_triangulation.h"
+#include "pipescope/fisheye/settled_sections.h"
 #include "pipescope/fisheye/solve_small_problem.h"
 #include "pipescope/fisheye/sphere_relative_pose.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/io/trajectory.h"
 #include "pipescope/util/progress.h"
 #include "pipescope/util/timer.h"
+#include "pipescope/util/work_queue.h"
 
 namespace pipescope {
 namespace {
@@ -60,43 +67,67 @@ void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points
   if (summary.IsSolutionUsable()) *cam_from_world = pose.ToIsometry();
 }
 
-// Straight-section and T visual odometry over the tracked key frames (001 §III-C).
+// A tracked key frame handed to the odometry once its section is settled.
+struct SectionedKeyframe {
+  TrackedKeyframe tracked;
+  KeyframeSection section;
+};
+
+// Straight-section and T visual odometry over the tracked key frames (001 §III-C), one key frame
+// at a time in order: a key frame's pose and windows use only the key frames before it and its
+// settled section, so it can run behind the tracking.
 class KeyframeOdometry {
  public:
-  KeyframeOdometry(const Camera& camera, const FisheyeMappingOptions& options,
-                   const std::vector<TrackedKeyframe>& tracked, FisheyeMappingResult* result)
-      : camera_(camera), options_(options), tracked_(tracked), result_(result) {}
+  KeyframeOdometry(const Camera& camera, const FisheyeMappingOptions& options)
+      : camera_(camera), options_(options) {}
 
-  void Run() {
-    const int n = static_cast<int>(tracked_.size());
-    cam_from_world_.assign(n, Eigen::Isometry3d::Identity());
-    for (int k = 0; k < n; ++k) {
-      AddObservations(k);
-      if (k > 0) EstimatePose(k);
-      Triangulate(k);
-      const FisheyeSection& section = result_->sections[result_->keyframes[k].section];
-      const int in_section = k - section.first_keyframe + 1;
-      if (in_section >= 3 &&
-          (in_section % options_.window_interval == 0 || k == section.last_keyframe)) {
-        // A window never spans a tracking reset: no track links the two sides.
-        const int first =
-            std::max({section.first_keyframe, segment_start_, k - options_.window_size + 1});
-        // A shorter window (just after a reset) fits its cylinder to too few key frames.
-        if (k - first + 1 >= options_.window_interval) {
-          AdjustWindow(first, k, result_->keyframes[k].section,
-                       section.view_class == PipeViewClass::kStraight);
-        }
+  void Add(SectionedKeyframe keyframe) {
+    const int k = static_cast<int>(tracked_.size());
+    tracked_.push_back(std::move(keyframe.tracked));
+    sections_.push_back(keyframe.section);
+    cam_from_world_.push_back(Eigen::Isometry3d::Identity());
+    steps_.emplace_back();
+    AddObservations(k);
+    if (k > 0) EstimatePose(k);
+    Triangulate(k);
+    const KeyframeSection& section = keyframe.section;
+    const int in_section = k - section.first_keyframe + 1;
+    if (in_section >= 3 &&
+        (in_section % options_.window_interval == 0 || section.last_in_section)) {
+      // A window never spans a tracking reset: no track links the two sides.
+      const int first =
+          std::max({section.first_keyframe, segment_start_, k - options_.window_size + 1});
+      // A shorter window (just after a reset) fits its cylinder to too few key frames.
+      if (k - first + 1 >= options_.window_interval) {
+        AdjustWindow(first, k, section.section, section.view_class == PipeViewClass::kStraight);
       }
     }
-    for (int k = 0; k < n; ++k) result_->keyframes[k].world_from_cam = cam_from_world_[k].inverse();
+  }
+
+  // The key frames' poses and step records, the windows and the points, into `result` (whose
+  // key frames are the ones added, in order).
+  void Finish(FisheyeMappingResult* result) const {
+    for (int k = 0; k < static_cast<int>(tracked_.size()); ++k) {
+      FisheyeKeyframe& keyframe = result->keyframes[k];
+      keyframe.world_from_cam = cam_from_world_[k].inverse();
+      keyframe.points_used = steps_[k].points_used;
+      keyframe.direction_rejected = steps_[k].direction_rejected;
+    }
+    result->windows = windows_;
     for (const auto& [id, track] : tracks_) {
       if (!track.has_point) continue;
-      result_->points.push_back(
-          {track.point, result_->keyframes[track.observations.front().keyframe].section});
+      result->points.push_back(
+          {track.point, sections_[track.observations.front().keyframe].section});
     }
   }
 
  private:
+  // How a key frame's step was fixed, for run.json.
+  struct StepRecord {
+    int points_used = 0;
+    bool direction_rejected = false;
+  };
+
   void AddObservations(int k) {
     for (const TrackedFeature& feature : tracked_[k].features) {
       tracks_[feature.track_id].observations.push_back(
@@ -110,8 +141,8 @@ class KeyframeOdometry {
   // pose-only refinement on the triangulated points.
   void EstimatePose(int k) {
     const TrackedKeyframe& keyframe = tracked_[k];
-    const int section = result_->keyframes[k].section;
-    const bool straight = result_->sections[section].view_class == PipeViewClass::kStraight;
+    const int section = sections_[k].section;
+    const bool straight = sections_[k].view_class == PipeViewClass::kStraight;
     if (section != axis_section_) {
       // A new section: until its first window fits a cylinder, the axis is taken as the
       // optical axis of the camera that enters it (the camera looks along the pipe).
@@ -142,7 +173,7 @@ class KeyframeOdometry {
     const Eigen::Vector3d reference = ReferenceDirection();
     if (std::abs(keyframe.relative_pose.translation.dot(reference)) <
         std::cos(options_.max_step_direction_change_deg * M_PI / 180.0)) {
-      result_->keyframes[k].direction_rejected = true;
+      steps_[k].direction_rejected = true;
       Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
       step.translation() = predicted * (recent_directions_.empty() ? last_direction_ : reference);
       cam_from_world_[k] = step * cam_from_world_[k - 1];
@@ -200,10 +231,10 @@ class KeyframeOdometry {
         axis_world_.point = world_from_previous * axis.point;
         axis_world_.direction = world_from_previous.linear() * axis.direction;
       }
-      result_->keyframes[k].points_used = static_cast<int>(unit_points.size());
+      steps_[k].points_used = static_cast<int>(unit_points.size());
     } else if (ratios.size() >= 5 && plausible(Median(ratios))) {
       scale = Median(ratios);
-      result_->keyframes[k].points_used = static_cast<int>(ratios.size());
+      steps_[k].points_used = static_cast<int>(ratios.size());
     }
     Eigen::Isometry3d cam_k_from_previous = Eigen::Isometry3d::Identity();
     cam_k_from_previous.linear() = rotation;
@@ -397,7 +428,7 @@ class KeyframeOdometry {
       record.rejection = "step spread";
     }
     if (!record.rejection.empty()) {
-      result_->windows.push_back(record);
+      windows_.push_back(record);
       return;
     }
     for (int k = first; k <= last; ++k) cam_from_world_[k] = adjusted[k - first];
@@ -418,13 +449,15 @@ class KeyframeOdometry {
       window_axis_world_ = axis_world_;  // the next window's prior
       window_axis_section_ = section;
     }
-    result_->windows.push_back(record);
+    windows_.push_back(record);
   }
 
   const Camera& camera_;
   const FisheyeMappingOptions& options_;
-  const std::vector<TrackedKeyframe>& tracked_;
-  FisheyeMappingResult* result_;
+  std::vector<TrackedKeyframe> tracked_;
+  std::vector<KeyframeSection> sections_;  // per key frame
+  std::vector<StepRecord> steps_;          // per key frame
+  std::vector<FisheyeWindowRecord> windows_;
   std::vector<Eigen::Isometry3d> cam_from_world_;
   std::unordered_map<long, Track> tracks_;
   // The last key-frame steps' speeds (metres a frame) and the last step's direction (in the
@@ -490,8 +523,50 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   FisheyeMappingResult result;
   FeatureTracker tracker(camera, options.tracking);
   const PipeViewClassifier classifier(camera, options.classification);
-  std::vector<TrackedKeyframe> tracked;
   std::vector<std::pair<int, double>> usable_frames;
+  // The odometry runs on a second thread, key frame by key frame as their sections settle,
+  // while the tracking goes on; it sees the same key frames in the same order as it would
+  // after the tracking, so the poses do not depend on the threads' timing.
+  SettledSections settled_sections(options.min_cluster_size);
+  std::deque<TrackedKeyframe> unsettled;  // tracked key frames whose section is not settled
+  std::vector<KeyframeSection> given_sections;
+  WorkQueue<SectionedKeyframe> odometry_queue;
+  KeyframeOdometry odometry(camera, options);
+  std::exception_ptr odometry_error;
+  std::thread odometry_thread;
+  const auto start_odometry = [&] {
+    odometry_thread = std::thread([&] {
+      try {
+        while (std::optional<SectionedKeyframe> keyframe = odometry_queue.Pop()) {
+          const Timer timer;
+          const ThreadCpuTimer cpu_timer;
+          odometry.Add(std::move(*keyframe));
+          result.odometry_seconds += timer.ElapsedSeconds();
+          result.odometry_cpu_seconds += cpu_timer.ElapsedSeconds();
+        }
+      } catch (...) {
+        odometry_error = std::current_exception();
+      }
+    });
+  };
+  if (options.overlap_odometry) start_odometry();
+  // The thread is joined however this function ends.
+  struct Joiner {
+    WorkQueue<SectionedKeyframe>& queue;
+    std::thread& thread;
+    ~Joiner() {
+      queue.Close();
+      if (thread.joinable()) thread.join();
+    }
+  } joiner{odometry_queue, odometry_thread};
+  const auto hand_over = [&](const std::vector<KeyframeSection>& sections) {
+    for (const KeyframeSection& section : sections) {
+      odometry_queue.Push({std::move(unsettled.front()), section});
+      unsettled.pop_front();
+      given_sections.push_back(section);
+    }
+  };
+
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
   ProgressBar progress("map", source->FrameCount());
   int failures_in_row = 0;
@@ -533,10 +608,18 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
     record.matches_guided = keyframe.matches_guided;
     record.median_flow_px = keyframe.median_flow_px;
     result.keyframes.push_back(record);
-    tracked.push_back(std::move(keyframe));
+    unsettled.push_back(std::move(keyframe));
+    hand_over(settled_sections.Add(measurement.view_class));
   }
   progress.Finish();
   result.unreadable_frames = source->skipped_frames();
+  hand_over(settled_sections.Finish());
+  const Timer wait_timer;
+  if (!options.overlap_odometry) start_odometry();
+  odometry_queue.Close();
+  odometry_thread.join();
+  result.odometry_wait_seconds = wait_timer.ElapsedSeconds();
+  if (odometry_error) std::rethrow_exception(odometry_error);
 
   std::vector<PipeViewClass> initial;
   for (const FisheyeKeyframe& keyframe : result.keyframes)
@@ -546,12 +629,17 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   for (std::size_t k = 0; k < filtered.size(); ++k)
     result.keyframes[k].filtered_class = filtered[k];
   BuildSections(&result);
-
-  const Timer odometry_timer;
-  const ProcessCpuTimer odometry_cpu_timer;
-  KeyframeOdometry(camera, options, tracked, &result).Run();
-  result.odometry_seconds = odometry_timer.ElapsedSeconds();
-  result.odometry_cpu_seconds = odometry_cpu_timer.ElapsedSeconds();
+  // The odometry must have seen the whole sequence's sections (SettledPipeViewClassCount).
+  for (const KeyframeSection& given : given_sections) {
+    const FisheyeSection& section = result.sections[given.section];
+    if (result.keyframes[given.keyframe].section != given.section ||
+        section.first_keyframe != given.first_keyframe ||
+        (section.last_keyframe == given.keyframe) != given.last_in_section) {
+      throw std::logic_error("key frame " + std::to_string(given.keyframe) +
+                             ": the odometry saw another section than the filtered sequence's");
+    }
+  }
+  odometry.Finish(&result);
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     result.keyframe_trajectory.push_back(
         ToStampedPose(keyframe.timestamp, keyframe.world_from_cam));

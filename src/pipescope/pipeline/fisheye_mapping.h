@@ -88,6 +88,9 @@ struct FisheyeMappingOptions {
   double max_window_cylinder_rms = 0.05;
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
+  // The odometry runs on a second thread while the frames are tracked (false: it starts after
+  // the last frame, as before; the same key frames in the same order, so the same poses).
+  bool overlap_odometry = true;
 };
 
 struct FisheyeKeyframe {
@@ -149,16 +152,20 @@ struct FisheyeMappingResult {
   std::vector<std::string> unreadable_frames;
   int frames = 0;
   int tracking_resets = 0;
-  // Wall seconds of each stage, and CPU seconds of the whole process over it (every thread:
-  // the image read-ahead, OpenCV's and Ceres' workers). Load on a shared machine changes the
-  // CPU seconds less than the wall seconds, but not nothing: up to 20 % between runs of one
-  // binary on the first 340 straight frames.
+  // Wall seconds of the tracking and the classification, and CPU seconds of the whole process
+  // over them (every thread: the image read-ahead, OpenCV's workers, and the odometry's thread,
+  // which runs meanwhile). Load on a shared machine changes the CPU seconds less than the wall
+  // seconds, but not nothing: up to 20 % between runs of one binary on the first 340 straight
+  // frames.
   double tracking_seconds = 0.0;
   double classification_seconds = 0.0;
-  double odometry_seconds = 0.0;
   double tracking_cpu_seconds = 0.0;
   double classification_cpu_seconds = 0.0;
+  // The odometry's thread: wall seconds it worked, its own CPU seconds (not those of Ceres's
+  // extra workers), and the wall seconds the run waited for it after the last frame.
+  double odometry_seconds = 0.0;
   double odometry_cpu_seconds = 0.0;
+  double odometry_wait_seconds = 0.0;
 };
 
 FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
