@@ -79,6 +79,14 @@ void HoldStillPhasePair(const PairRegistrationOptions& registration, PairMotion*
 
 }  // namespace
 
+bool FailedFrameBecomesKey(const PairMotion& motion, int failures_in_row, double shift_fraction,
+                           cv::Size frame, const DenseVoOptions& options) {
+  if (failures_in_row >= options.key_frame_max_failures) return true;
+  const double limit = shift_fraction + options.key_frame_wait_fraction;
+  return std::abs(motion.shift.x) >= limit * frame.width ||
+         std::abs(motion.shift.y) >= limit * frame.height;
+}
+
 double KeyFrameShiftFraction(DenseMethod method) {
   const bool integer_search =
       method == DenseMethod::kSad || method == DenseMethod::kSsd || method == DenseMethod::kZncc;
@@ -194,6 +202,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     cv::Point2d content_offset;       // the image mosaic's
   };
   std::optional<KeyFrame> key;
+  int failures_in_row = 0;  // on the current key frame
   // The previous frame's motion from the key frame, and the last good frame's motion from the
   // frame before with its time step (0: none yet), for the constant-velocity prediction.
   cv::Point2d previous_shift(0.0, 0.0);
@@ -274,13 +283,18 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
                                 band_principal_point, band_centre);
       }
       content_offset = key->content_offset - motion.shift;
-      new_key = !motion.failure.empty() ||
-                KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x, options);
+      failures_in_row = motion.failure.empty() ? 0 : failures_in_row + 1;
+      new_key =
+          motion.failure.empty()
+              ? KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x, options)
+              : FailedFrameBecomesKey(motion, failures_in_row, key_shift_fraction, current.size(),
+                                      options);
       previous_shift = motion.shift;
       previous_rotation = motion.rotation_rad;
     }
     record.key_frame = new_key;
     if (new_key) {
+      failures_in_row = 0;
       key = KeyFrame{current, pose, travel, roll, content_offset};
       previous_shift = cv::Point2d(0.0, 0.0);
       previous_rotation = 0.0;

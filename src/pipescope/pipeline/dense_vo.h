@@ -49,6 +49,13 @@ struct DenseVoOptions {
   // registration (key_frame_shift_fraction 0) never waits.
   double key_frame_max_rounding_px = 0.15;
   double key_frame_wait_fraction = 0.1;
+  // A frame whose registration failed (blur, a dark or saturated frame) gets a predicted pose but
+  // does not become the key frame: the next frame is registered to the same key, so one bad
+  // frame costs only its own pose. The predicted frame becomes the key frame after this many
+  // failures in a row (the key itself may be what no longer registers) or once its predicted
+  // shift is past key_frame_shift_fraction + key_frame_wait_fraction. 1: every failed frame
+  // becomes the key frame, as before session 9.
+  int key_frame_max_failures = 3;
   // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
   // line so that every line of the band moves at the same rate along the pipe, and that rate
   // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
@@ -135,6 +142,12 @@ double KeyFrameShiftFraction(DenseMethod method);
 // refinement was not used (PairMotion::integer_only) waits likewise.
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
                    bool along_image_x, const DenseVoOptions& options);
+
+// Whether a frame whose registration failed, with its predicted `motion` from the key frame,
+// becomes the next key frame (DenseVoOptions::key_frame_max_failures): after that many failures
+// in a row on the current key, or once the predicted shift is past the key-frame wait.
+bool FailedFrameBecomesKey(const PairMotion& motion, int failures_in_row, double shift_fraction,
+                           cv::Size frame, const DenseVoOptions& options);
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is
 // required, and the pipe radius for dense-unrolled; the dataset's gain mask is applied when it

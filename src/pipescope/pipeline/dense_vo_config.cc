@@ -28,6 +28,7 @@ const std::set<std::string> kKeys = {"downsample",
                                      "key_frame_shift_fraction",
                                      "key_frame_max_rounding_px",
                                      "key_frame_wait_fraction",
+                                     "key_frame_max_failures",
                                      "presmooth_sigma_px",
                                      "unrolled_registration"};
 
@@ -99,6 +100,10 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "key_frame_wait_fraction", *value, 0.0, 0.2);
     options->key_frame_wait_fraction = *value;
   }
+  if (auto value = OptionalYamlValue<int>(root, "key_frame_max_failures", path)) {
+    RequireRange(path, "key_frame_max_failures", *value, 1, 1000);
+    options->key_frame_max_failures = *value;
+  }
   if (auto value = OptionalYamlValue<bool>(root, "foreshortening_correction", path)) {
     options->foreshortening_correction = *value;
   }
@@ -144,6 +149,7 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
        options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method))},
       {"key_frame_max_rounding_px", options.key_frame_max_rounding_px},
       {"key_frame_wait_fraction", options.key_frame_wait_fraction},
+      {"key_frame_max_failures", options.key_frame_max_failures},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
       {"unrolled_registration",
        options.unrolled_registration == DenseMethod::kPhase ? "phase" : "hybrid"},
