@@ -77,14 +77,18 @@ void HoldStillPhasePair(const PairRegistrationOptions& registration, PairMotion*
   }
 }
 
+// The shift from the key frame has reached `fraction` of the frame along either axis.
+bool ShiftReaches(const PairMotion& motion, double fraction, cv::Size frame) {
+  return std::abs(motion.shift.x) >= fraction * frame.width ||
+         std::abs(motion.shift.y) >= fraction * frame.height;
+}
+
 }  // namespace
 
 bool FailedFrameBecomesKey(const PairMotion& motion, int failures_in_row, double shift_fraction,
                            cv::Size frame, const DenseVoOptions& options) {
-  if (failures_in_row >= options.key_frame_max_failures) return true;
-  const double limit = shift_fraction + options.key_frame_wait_fraction;
-  return std::abs(motion.shift.x) >= limit * frame.width ||
-         std::abs(motion.shift.y) >= limit * frame.height;
+  return failures_in_row >= options.key_frame_max_failures ||
+         ShiftReaches(motion, shift_fraction + options.key_frame_wait_fraction, frame);
 }
 
 double KeyFrameShiftFraction(DenseMethod method) {
@@ -95,10 +99,7 @@ double KeyFrameShiftFraction(DenseMethod method) {
 
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
                    bool along_image_x, const DenseVoOptions& options) {
-  const auto beyond = [&](double fraction) {
-    return std::abs(motion.shift.x) >= fraction * frame.width ||
-           std::abs(motion.shift.y) >= fraction * frame.height;
-  };
+  const auto beyond = [&](double fraction) { return ShiftReaches(motion, fraction, frame); };
   if (!beyond(shift_fraction)) return false;
   if (shift_fraction <= 0.0 || beyond(shift_fraction + options.key_frame_wait_fraction)) {
     return true;
