@@ -23,6 +23,19 @@ std::vector<Eigen::Vector3d> PointsSeenFromEach(const Camera& camera,
   return points;
 }
 
+// Key frames at the true poses seeing `points` exactly; the first is held.
+std::vector<WindowKeyFrame> ExactWindowHoldingTheFirst(const Camera& camera,
+                                                       const std::vector<Eigen::Isometry3d>& truth,
+                                                       const std::vector<Eigen::Vector3d>& points) {
+  std::vector<WindowKeyFrame> window(truth.size());
+  for (std::size_t a = 0; a < truth.size(); ++a) {
+    window[a].pose = truth[a];
+    window[a].fixed = a == 0;
+    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
+  }
+  return window;
+}
+
 // Eight key frames with pitch and yaw wobble and drift across the pipe; the first two are held
 // at the truth, the others start at the 1-DOF guess (start rotation, on the first one's line)
 // and must come back to the truth.
@@ -94,12 +107,7 @@ TEST(AdjustWindow, CrossSectionPriorPullsConsecutiveKeyFramesTogether) {
   std::vector<Eigen::Isometry3d> truth;
   for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0002 * a, 0.0, 0.01 * a}));
   const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 90);
-  std::vector<WindowKeyFrame> window(6);
-  for (int a = 0; a < 6; ++a) {
-    window[a].pose = truth[a];
-    window[a].fixed = a == 0;
-    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
-  }
+  const std::vector<WindowKeyFrame> window = ExactWindowHoldingTheFirst(camera, truth, points);
   auto last_step_across = [](const std::vector<WindowKeyFrame>& adjusted) {
     return (adjusted[5].pose.translation() - adjusted[4].pose.translation()).head<2>().norm();
   };
@@ -124,12 +132,7 @@ TEST(AdjustWindow, CrossSectionAnchorPullsFreeKeyFramesToTheMeasuredStart) {
   std::vector<Eigen::Isometry3d> truth;
   for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001, 0.01 * a}));
   const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 110);
-  std::vector<WindowKeyFrame> window(6);
-  for (int a = 0; a < 6; ++a) {
-    window[a].pose = truth[a];
-    window[a].fixed = a == 0;
-    window[a].keypoints = ObservedKeypoints(camera, truth[a], points);
-  }
+  const std::vector<WindowKeyFrame> window = ExactWindowHoldingTheFirst(camera, truth, points);
   WindowAdjustmentOptions options;
   options.max_iterations = 50;
   options.cross_section_anchor_xy = Eigen::Vector2d::Zero();

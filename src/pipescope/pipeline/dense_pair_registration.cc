@@ -143,6 +143,14 @@ PairMotion RegisterPlanarPair(DenseMethod method, const cv::Mat& reference, cons
           RegisterPhaseCorrelation(reference, next, options.phase, predicted_rotation_rad);
       motion.shift = result.shift;
       motion.rotation_rad = result.rotation_rad;
+      // A still camera stays still (000 §4.2.3): phase correlation has no still test of its own,
+      // so a translation-only shift below the hybrid method's still_shift_px is taken as none.
+      // The pipeline registers to key frames, so what this drops never accrues.
+      if (!options.phase.estimate_rotation &&
+          std::hypot(motion.shift.x, motion.shift.y) < options.hybrid.still_shift_px) {
+        motion.shift = cv::Point2d(0.0, 0.0);
+        motion.still = true;
+      }
       break;
     }
     case DenseMethod::kOpenCvPhase: {

@@ -57,7 +57,7 @@ struct PairMotion {
   cv::Point2d shift;
   double rotation_rad = 0.0;
   double correlation = 0.0;  // ZNCC of the overlap at the rounded shift
-  bool still = false;        // dense-hybrid reported exactly no motion
+  bool still = false;        // dense-hybrid or phase (translation only) reported no motion
   // dense-hybrid: the Gauss-Newton refinement did not converge or moved too far
   // (HybridOptions::max_refinement_px), so the full search's whole-pixel shift was kept.
   bool integer_only = false;

@@ -95,6 +95,21 @@ TEST(PlanarPairRegistration, HybridSaysWhenItKeptTheWholePixelShift) {
   EXPECT_EQ(kept.shift, cv::Point2d(5.0, -2.0));
 }
 
+// Phase correlation reports a still pair (000 §4.2.3's "keep stationary frames at zero motion")
+// when the translation it finds is below still_shift_px, and a small true motion as motion.
+TEST(PlanarPairRegistration, PhaseHoldsAStillPairAtZero) {
+  const RegistrationPair still = MakeRegistrationPair({160, 120}, {0.0, 0.0}, 0.0, 1.0, 13);
+  const PairMotion held =
+      RegisterPlanarPair(DenseMethod::kPhase, still.reference, still.next, {}, {0.0, 0.0});
+  EXPECT_TRUE(held.still);
+  EXPECT_EQ(held.shift, cv::Point2d(0.0, 0.0));
+  const RegistrationPair moved = MakeRegistrationPair({160, 120}, {0.3, 0.0}, 0.0, 1.0, 13);
+  const PairMotion moving =
+      RegisterPlanarPair(DenseMethod::kPhase, moved.reference, moved.next, {}, {0.0, 0.0});
+  EXPECT_FALSE(moving.still);
+  EXPECT_LT(Distance(moving.shift, {0.3, 0.0}), 0.05) << moving.shift;
+}
+
 TEST(PlanarPairRegistration, PhaseRecoversRotation) {
   const double rotation = 2.5 * M_PI / 180.0;
   const RegistrationPair pair = MakeRegistrationPair({256, 192}, {3.2, 1.1}, rotation, 1.0, 5);

@@ -66,17 +66,6 @@ void SetSearchWindowFromSpeed(const DatasetManifest& manifest, double zeta,
   options->registration.full_search.max_shift_y_px = along_image_x ? across : along;
 }
 
-// A still camera stays still (000 §4.2.3). Phase correlation has no still test of its own, so
-// on the unrolled wall a shift from the key frame below the hybrid method's still_shift_px is
-// taken as none. Frames are registered to the key frame, so what this drops never accrues.
-void HoldStillPhasePair(const PairRegistrationOptions& registration, PairMotion* motion) {
-  if (!motion->failure.empty() || motion->still) return;
-  if (std::hypot(motion->shift.x, motion->shift.y) < registration.hybrid.still_shift_px) {
-    motion->shift = cv::Point2d(0.0, 0.0);
-    motion->still = true;
-  }
-}
-
 // The shift from the key frame has reached `fraction` of the frame along either axis.
 bool ShiftReaches(const PairMotion& motion, double fraction, cv::Size frame) {
   return std::abs(motion.shift.x) >= fraction * frame.width ||
@@ -254,9 +243,6 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       } else {
         motion = RegisterPlanarPair(registration_method, key->image, current, registration,
                                     previous_shift + step, previous_rotation + step_rotation);
-        if (on_unrolled_wall && registration_method == DenseMethod::kPhase) {
-          HoldStillPhasePair(registration, &motion);
-        }
       }
       if (motion.failure.empty()) {
         velocity_shift = motion.shift - previous_shift;

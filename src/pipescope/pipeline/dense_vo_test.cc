@@ -211,7 +211,7 @@ TEST(DenseVo, StillCameraStaysStill) {
   const auto dir = MakeTestDirectory("dense_vo_still") / "still";
   SimulateDataset(HalfResolutionSteel16In(20, 0.0), dir);
   const DatasetManifest manifest = OpenDataset(dir);
-  for (DenseMethod method : {DenseMethod::kHybrid, DenseMethod::kUnrolled}) {
+  for (DenseMethod method : {DenseMethod::kHybrid, DenseMethod::kPhase, DenseMethod::kUnrolled}) {
     const DenseVoResult result =
         RunDenseVo(manifest, ReadCamera(manifest.camera_path), HalfResolutionOptions(method));
     ASSERT_EQ(result.trajectory.size(), 20u);
