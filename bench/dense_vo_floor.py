@@ -35,10 +35,8 @@ def yaml_number(text, key, path):
     return float(match.group(1))
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
-    dataset = sys.argv[1]
+def floor_terms(dataset):
+    """(drift floor %, tilt term % or None for an out-and-back run, d_nominal, d_min, d_max)."""
     manifest = open(f"{dataset}/dataset.yaml").read()
     radius = yaml_number(manifest, "inner_radius_m", "dataset.yaml")
     zeta = yaml_number(manifest, "reference_scale_px_per_m", "dataset.yaml")
@@ -65,11 +63,21 @@ def main():
     sine = math.sqrt(x * x + y * y + z * z)
     tilt = 2 * math.atan2(sine, w) * y / sine if sine > 1e-12 else 0.0
     floor = 100 * (seen / travel - 1)
-    text = (f"{dataset}: d_nominal {1000 * d_nominal:.2f} mm, d {1000 * min(distances):.2f}.."
-            f"{1000 * max(distances):.2f} mm; drift floor {floor:+.3f} %")
     reach = max(abs(row[3] - rows[0][3]) for row in rows)
+    tilt_term = None
     if abs(rows[-1][3] - rows[0][3]) > 0.5 * reach:  # one way (an out-and-back run turns round)
         tilt_term = 100 * d_nominal * tilt / travel
+    return floor, tilt_term, d_nominal, min(distances), max(distances)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    dataset = sys.argv[1]
+    floor, tilt_term, d_nominal, d_min, d_max = floor_terms(dataset)
+    text = (f"{dataset}: d_nominal {1000 * d_nominal:.2f} mm, d {1000 * d_min:.2f}.."
+            f"{1000 * d_max:.2f} mm; drift floor {floor:+.3f} %")
+    if tilt_term is not None:
         text += f", tilt term {tilt_term:+.3f} %, together {floor + tilt_term:+.3f} %"
     print(text)
 
