@@ -117,6 +117,29 @@ TEST(TrajectoryMetrics, OutAndBackThresholdFollowsFraction) {
   EXPECT_NEAR(*metrics.return_error_pct, 0.0, 1e-12);
 }
 
+TEST(TrajectoryMetrics, ReturnErrorComparesTheLegsNotWhereTheRunsEnd) {
+  // The truth goes 2 m out and 2 m back down the pipe while drifting 4 mm sideways (X); the
+  // estimate goes 2.01 m out and 2 m back straight down the axis. Eq. 51: 100 |2.01 - 2| / 4
+  // = 0.25 %, up to the drift's second-order change of the truth's leg lengths (2e-6 m).
+  const auto drifting = [](int i) {
+    return Eigen::Vector3d(1e-4 * i, 0, i <= 20 ? 0.1 * i : 2.0 - 0.1 * (i - 20));
+  };
+  const Trajectory gt = MakeTrajectory(41, drifting);
+  const Trajectory est = MakeTrajectory(41, [](int i) {
+    return Eigen::Vector3d(0, 0, i <= 20 ? 0.1005 * i : 2.01 - 0.1 * (i - 20));
+  });
+  const Metrics metrics = EvaluateTrajectory(gt, est, {});
+  ASSERT_TRUE(metrics.out_and_back && metrics.return_error_pct);
+  EXPECT_NEAR(*metrics.return_error_pct, 0.25, 1e-4);
+  // An estimate that comes back exactly to its start scores the truth's leg difference only,
+  // not its 4 mm end offset (0.1 % of the path).
+  const Trajectory back_home = MakeTrajectory(
+      41, [](int i) { return Eigen::Vector3d(0, 0, i <= 20 ? 0.1 * i : 2.0 - 0.1 * (i - 20)); });
+  const Metrics home = EvaluateTrajectory(gt, back_home, {});
+  ASSERT_TRUE(home.return_error_pct);
+  EXPECT_LT(*home.return_error_pct, 1e-4);
+}
+
 TEST(TrajectoryMetrics, RigidCopyHasZeroErrorsUnderSe3) {
   const Trajectory gt = Helix(100);
   const Trajectory est = Transformed(gt, kRotation, kTranslation, 1.0);
