@@ -3,14 +3,17 @@
 
 For every preset and method: the signed distance error per seed (estimate longer than the truth
 is positive, from metrics.json), its mean and worst magnitude, the mean |error - floor| (the error
-the method adds to what no planar method observes: drift floor, plus the tilt term on one-way
-runs, from bench/dense_vo_floor.py), the mean return error, and the paired comparison with the
-baseline on the same frames: the mean over seeds of |error| - |baseline's error| and of the same
-after the floor, with their standard errors (negative: below the baseline).
+the method adds to what no planar method observes: the robot's drift across the pipe and its
+tilt, bench/dense_vo_floor.py), and the paired comparison with the baseline on the same frames:
+the mean over seeds of |error| - |baseline's error| and of the same after the floor, with their
+standard errors (negative: below the baseline). Out-and-back runs also get the return error
+(000 eq. 51, from the trajectories) and its mean |return - return floor|, with the same paired
+comparison.
 
-Usage: bench/dense_vo_compare.py OUT_DIR "SEEDS" [--runs PATTERN] [--data PATTERN]
-  PATTERN fields: {out} {preset} {seed} {method}; by default the layout of
-  bench/dense_vo_accuracy.sh: runs {out}/runs/{preset}-seed{seed}-{method}, data {out}/{preset}-seed{seed}.
+Usage: bench/dense_vo_compare.py OUT_DIR "SEEDS" [--runs PATTERN] [--data PATTERN] [--markdown]
+  PATTERN fields: {out} {preset} {seed} {method}; by default bench/dense_vo_accuracy.sh's layout:
+  runs {out}/runs/{preset}-seed{seed}-{method}, data {out}/{preset}-seed{seed}.
+  --markdown prints the rows of docs/dense_vo.md's table instead.
 """
 import argparse
 import json
@@ -31,15 +34,35 @@ def mean(values):
     return sum(values) / len(values)
 
 
-def paired(values):
+def paired(values, digits=4):
     """The mean difference, with its standard error when there are two seeds or more."""
     if not values:
         return ""
     m = mean(values)
     if len(values) < 2:
-        return f"{m:+.4f}"
+        return f"{m:+.{digits}f}"
     error = math.sqrt(sum((v - m) ** 2 for v in values) / (len(values) - 1) / len(values))
-    return f"{m:+.4f}±{error:.4f}"
+    return f"{m:+.{digits}f} ± {error:.{digits}f}"
+
+
+def positions(path):
+    return [list(map(float, line.split()[1:4])) for line in open(path)
+            if line.strip() and not line.startswith("#")]
+
+
+def signed_return(run, data):
+    """Signed eq. 51 in %: ((forward - reverse)_est - (forward - reverse)_gt) / path, the legs
+    split at the ground truth's frame farthest from its start (both files have every frame)."""
+    gt = positions(f"{data}/groundtruth.tum")
+    est = positions(f"{run}/trajectory.tum")
+    if len(est) != len(gt):
+        return None
+    turn = max(range(len(gt)), key=lambda i: abs(gt[i][2] - gt[0][2]))
+    legs = lambda p: (math.dist(p[0], p[turn]), math.dist(p[turn], p[-1]))  # noqa: E731
+    forward_gt, reverse_gt = legs(gt)
+    forward_est, reverse_est = legs(est)
+    return 100 * ((forward_est - reverse_est) - (forward_gt - reverse_gt)) / (forward_gt +
+                                                                               reverse_gt)
 
 
 def main():
@@ -48,47 +71,84 @@ def main():
     parser.add_argument("seeds")
     parser.add_argument("--runs", default="{out}/runs/{preset}-seed{seed}-{method}")
     parser.add_argument("--data", default="{out}/{preset}-seed{seed}")
+    parser.add_argument("--markdown", action="store_true")
     args = parser.parse_args()
     seeds = args.seeds.split()
     for preset in PRESETS:
-        floors, signed, returns = {}, {}, {}
+        floors, return_floors, signed, returns = {}, {}, {}, {}
         for seed in seeds:
             data = args.data.format(out=args.out, preset=preset, seed=seed)
             if not os.path.isfile(f"{data}/dataset.yaml"):
                 continue
-            floor, tilt, *_ = floor_terms(data)
-            floors[seed] = floor + (tilt or 0.0)
+            terms = floor_terms(data)
+            floors[seed] = terms["together"]
+            if "return_floor" in terms:
+                return_floors[seed] = terms["return_floor"]
             for method in METHODS:
                 run = args.runs.format(out=args.out, preset=preset, seed=seed, method=method)
                 if not os.path.isfile(f"{run}/metrics.json"):
                     continue
                 m = json.load(open(f"{run}/metrics.json"))
                 signed[(method, seed)] = 100 * (m["distance_est_m"] / m["distance_gt_m"] - 1)
-                if m.get("return_error_pct") is not None:
-                    returns[(method, seed)] = m["return_error_pct"]
+                if seed in return_floors:
+                    value = signed_return(run, data)
+                    if value is not None:
+                        returns[(method, seed)] = value
         if not floors:
             continue
-        print(f"\n{preset}: floor per seed (drift floor + tilt term on one-way runs, %): " +
-              " ".join(f"{s}:{floors[s]:+.3f}" for s in seeds if s in floors))
-        print(f"{'method':<15} {'seeds':>5} {'mean':>7} {'worst':>7} {'-floor':>7} {'return':>7} "
-              f"{'vs base':>16} {'-floor vs base':>16}  signed per seed")
+        have_floor = [s for s in seeds if s in floors]
+        rows = []
         for method in METHODS:
             have = [s for s in seeds if (method, s) in signed]
             if not have:
                 continue
             errors = [signed[(method, s)] for s in have]
-            beyond = [abs(signed[(method, s)] - floors[s]) for s in have]
-            rets = [returns[(method, s)] for s in have if (method, s) in returns]
-            with_baseline = [s for s in have if (BASELINE, s) in signed]
-            diff = [abs(signed[(method, s)]) - abs(signed[(BASELINE, s)]) for s in with_baseline]
-            diff_floor = [abs(signed[(method, s)] - floors[s]) -
-                          abs(signed[(BASELINE, s)] - floors[s]) for s in with_baseline]
-            versus = paired(diff) if method != BASELINE else ""
-            versus_floor = paired(diff_floor) if method != BASELINE else ""
-            print(f"{method:<15} {len(have):>5} {mean([abs(e) for e in errors]):7.4f} "
-                  f"{max(abs(e) for e in errors):7.4f} {mean(beyond):7.4f} "
-                  f"{(f'{mean(rets):.4f}' if rets else '-'):>7} {versus:>16} {versus_floor:>16}  " +
-                  " ".join(f"{e:+.3f}" for e in errors))
+            base = [s for s in have if (BASELINE, s) in signed and method != BASELINE]
+            beyond = lambda table, floor, s: abs(table[(method, s)] - floor[s])  # noqa: E731
+            base_beyond = lambda table, floor, s: abs(table[(BASELINE, s)] - floor[s])  # noqa
+            ret = [s for s in have if (method, s) in returns]
+            ret_base = [s for s in ret if (BASELINE, s) in returns and method != BASELINE]
+            rows.append({
+                "method": method, "seeds": len(have), "errors": errors,
+                "mean": mean([abs(e) for e in errors]), "worst": max(abs(e) for e in errors),
+                "beyond": mean([beyond(signed, floors, s) for s in have]),
+                "versus": paired([abs(signed[(method, s)]) - abs(signed[(BASELINE, s)])
+                                  for s in base]),
+                "versus_floor": paired([beyond(signed, floors, s) -
+                                        base_beyond(signed, floors, s) for s in base]),
+                "return": mean([abs(returns[(method, s)]) for s in ret]) if ret else None,
+                "return_beyond": (mean([beyond(returns, return_floors, s) for s in ret])
+                                  if ret else None),
+                "return_versus_floor": paired([beyond(returns, return_floors, s) -
+                                               base_beyond(returns, return_floors, s)
+                                               for s in ret_base]),
+            })
+        fmt = lambda v: "" if v is None else f"{v:.4f}"  # noqa: E731
+        if args.markdown:
+            floor_values = [floors[s] for s in have_floor]
+            cells = [preset, "floor", f"{mean([abs(v) for v in floor_values]):.4f}",
+                     f"{max(abs(v) for v in floor_values):.4f}", "", "", "",
+                     fmt(mean([abs(return_floors[s]) for s in have_floor])
+                         if return_floors else None), "", ""]
+            print("| " + " | ".join(cells + [f"{v:+.3f}" for v in floor_values]) + " |")
+            for r in rows:
+                cells = [preset, r["method"], f"{r['mean']:.4f}", f"{r['worst']:.4f}",
+                         f"{r['beyond']:.4f}", r["versus"], r["versus_floor"], fmt(r["return"]),
+                         fmt(r["return_beyond"]), r["return_versus_floor"]]
+                print("| " + " | ".join(cells + [f"{e:+.3f}" for e in r["errors"]]) + " |")
+            continue
+        print(f"\n{preset}: floor per seed (drift + tilt, %): " +
+              " ".join(f"{s}:{floors[s]:+.4f}" for s in have_floor) +
+              ("; return floor: " + " ".join(f"{s}:{return_floors[s]:+.4f}" for s in have_floor)
+               if return_floors else ""))
+        print(f"{'method':<15} {'mean':>7} {'worst':>7} {'-floor':>7} {'vs base':>17} "
+              f"{'-floor vs base':>17} {'return':>7} {'-floor':>7} {'-floor vs base':>17}  "
+              "signed per seed")
+        for r in rows:
+            print(f"{r['method']:<15} {r['mean']:7.4f} {r['worst']:7.4f} {r['beyond']:7.4f} "
+                  f"{r['versus']:>17} {r['versus_floor']:>17} {fmt(r['return']):>7} "
+                  f"{fmt(r['return_beyond']):>7} {r['return_versus_floor']:>17}  " +
+                  " ".join(f"{e:+.3f}" for e in r["errors"]))
 
 
 if __name__ == "__main__":
