@@ -45,6 +45,15 @@ def paired(values, digits=4):
     return f"{m:+.{digits}f} ± {error:.{digits}f}"
 
 
+def beyond(table, floor, method, seed):
+    """|error - floor| of one method on one seed."""
+    return abs(table[(method, seed)] - floor[seed])
+
+
+def optional(value):
+    return "" if value is None else f"{value:.4f}"
+
+
 def positions(path):
     return [list(map(float, line.split()[1:4])) for line in open(path)
             if line.strip() and not line.startswith("#")]
@@ -58,9 +67,8 @@ def signed_return(run, data):
     if len(est) != len(gt):
         return None
     turn = max(range(len(gt)), key=lambda i: abs(gt[i][2] - gt[0][2]))
-    legs = lambda p: (math.dist(p[0], p[turn]), math.dist(p[turn], p[-1]))  # noqa: E731
-    forward_gt, reverse_gt = legs(gt)
-    forward_est, reverse_est = legs(est)
+    forward_gt, reverse_gt = math.dist(gt[0], gt[turn]), math.dist(gt[turn], gt[-1])
+    forward_est, reverse_est = math.dist(est[0], est[turn]), math.dist(est[turn], est[-1])
     return 100 * ((forward_est - reverse_est) - (forward_gt - reverse_gt)) / (forward_gt +
                                                                                reverse_gt)
 
@@ -104,37 +112,34 @@ def main():
                 continue
             errors = [signed[(method, s)] for s in have]
             base = [s for s in have if (BASELINE, s) in signed and method != BASELINE]
-            beyond = lambda table, floor, s: abs(table[(method, s)] - floor[s])  # noqa: E731
-            base_beyond = lambda table, floor, s: abs(table[(BASELINE, s)] - floor[s])  # noqa
             ret = [s for s in have if (method, s) in returns]
             ret_base = [s for s in ret if (BASELINE, s) in returns and method != BASELINE]
             rows.append({
                 "method": method, "seeds": len(have), "errors": errors,
                 "mean": mean([abs(e) for e in errors]), "worst": max(abs(e) for e in errors),
-                "beyond": mean([beyond(signed, floors, s) for s in have]),
+                "beyond": mean([beyond(signed, floors, method, s) for s in have]),
                 "versus": paired([abs(signed[(method, s)]) - abs(signed[(BASELINE, s)])
                                   for s in base]),
-                "versus_floor": paired([beyond(signed, floors, s) -
-                                        base_beyond(signed, floors, s) for s in base]),
+                "versus_floor": paired([beyond(signed, floors, method, s) -
+                                        beyond(signed, floors, BASELINE, s) for s in base]),
                 "return": mean([abs(returns[(method, s)]) for s in ret]) if ret else None,
-                "return_beyond": (mean([beyond(returns, return_floors, s) for s in ret])
+                "return_beyond": (mean([beyond(returns, return_floors, method, s) for s in ret])
                                   if ret else None),
-                "return_versus_floor": paired([beyond(returns, return_floors, s) -
-                                               base_beyond(returns, return_floors, s)
+                "return_versus_floor": paired([beyond(returns, return_floors, method, s) -
+                                               beyond(returns, return_floors, BASELINE, s)
                                                for s in ret_base]),
             })
-        fmt = lambda v: "" if v is None else f"{v:.4f}"  # noqa: E731
         if args.markdown:
             floor_values = [floors[s] for s in have_floor]
             cells = [preset, "floor", f"{mean([abs(v) for v in floor_values]):.4f}",
                      f"{max(abs(v) for v in floor_values):.4f}", "", "", "",
-                     fmt(mean([abs(return_floors[s]) for s in have_floor])
+                     optional(mean([abs(return_floors[s]) for s in have_floor])
                          if return_floors else None), "", ""]
             print("| " + " | ".join(cells + [f"{v:+.3f}" for v in floor_values]) + " |")
             for r in rows:
                 cells = [preset, r["method"], f"{r['mean']:.4f}", f"{r['worst']:.4f}",
-                         f"{r['beyond']:.4f}", r["versus"], r["versus_floor"], fmt(r["return"]),
-                         fmt(r["return_beyond"]), r["return_versus_floor"]]
+                         f"{r['beyond']:.4f}", r["versus"], r["versus_floor"], optional(r["return"]),
+                         optional(r["return_beyond"]), r["return_versus_floor"]]
                 print("| " + " | ".join(cells + [f"{e:+.3f}" for e in r["errors"]]) + " |")
             continue
         print(f"\n{preset}: floor per seed (drift + tilt, %): " +
@@ -146,8 +151,8 @@ def main():
               "signed per seed")
         for r in rows:
             print(f"{r['method']:<15} {r['mean']:7.4f} {r['worst']:7.4f} {r['beyond']:7.4f} "
-                  f"{r['versus']:>17} {r['versus_floor']:>17} {fmt(r['return']):>7} "
-                  f"{fmt(r['return_beyond']):>7} {r['return_versus_floor']:>17}  " +
+                  f"{r['versus']:>17} {r['versus_floor']:>17} {optional(r['return']):>7} "
+                  f"{optional(r['return_beyond']):>7} {r['return_versus_floor']:>17}  " +
                   " ".join(f"{e:+.3f}" for e in r["errors"]))
 
 

@@ -88,9 +88,9 @@ double KeyFrameShiftFraction(DenseMethod method) {
 
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
                    bool along_image_x, const DenseVoOptions& options) {
-  const auto beyond = [&](double fraction) { return ShiftReaches(motion, fraction, frame); };
-  if (!beyond(shift_fraction)) return false;
-  if (shift_fraction <= 0.0 || beyond(shift_fraction + options.key_frame_wait_fraction)) {
+  if (!ShiftReaches(motion, shift_fraction, frame)) return false;
+  if (shift_fraction <= 0.0 ||
+      ShiftReaches(motion, shift_fraction + options.key_frame_wait_fraction, frame)) {
     return true;
   }
   // A whole-pixel shift kept by dense-hybrid carries up to half a pixel into every later frame
