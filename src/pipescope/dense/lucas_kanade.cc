@@ -137,15 +137,16 @@ struct NormalEquations {
 bool Linearise(const cv::Mat& reference, const cv::Mat& ref_gx, const cv::Mat& ref_gy,
                const cv::Mat& next, cv::Point2d t, double gain, double bias,
                bool estimate_gain_bias, ShiftInterpolation interpolation, int min_pixels,
-               NormalEquations* equations) {
+               const cv::Rect& domain, NormalEquations* equations) {
   *equations = NormalEquations();
   cv::Rect valid;
   const cv::Mat warped = ShiftImage(next, t, interpolation, &valid);
-  // Pixels with both neighbours of the warped image and of the reference available.
-  const int x0 = std::max(valid.x + 1, 1);
-  const int x1 = std::min(valid.x + valid.width - 1, reference.cols - 1);
-  const int y0 = std::max(valid.y + 1, 1);
-  const int y1 = std::min(valid.y + valid.height - 1, reference.rows - 1);
+  // Pixels of `domain` with both neighbours of the warped image and of the reference available.
+  const int x0 = std::max({valid.x + 1, 1, domain.x});
+  const int x1 = std::min({valid.x + valid.width - 1, reference.cols - 1, domain.x + domain.width});
+  const int y0 = std::max({valid.y + 1, 1, domain.y});
+  const int y1 =
+      std::min({valid.y + valid.height - 1, reference.rows - 1, domain.y + domain.height});
   if (x1 <= x0 || y1 <= y0 || (x1 - x0) * (y1 - y0) < min_pixels) return false;
 
   const float g = static_cast<float>(gain);
@@ -198,6 +199,26 @@ bool Linearise(const cv::Mat& reference, const cv::Mat& ref_gx, const cv::Mat& r
                                h03, h13, h23, sum_one);
   equations->jtr = cv::Vec4d(e0, e1, e2, e3);
   return true;
+}
+
+// The reference pixels at least `border` from its edges whose warped value and its two
+// neighbours can be sampled, `border` from the next image's edges, for every shift within
+// `margin` of `center` (either interpolation: taps -1 ... +2). Gauss-Newton keeps this set while
+// the shift stays within the margin: a set that followed floor(t) would change at each integer
+// crossing, and a shift that settles next to one could cycle between two sets.
+cv::Rect StableDomain(cv::Size size, cv::Point2d center, double margin, cv::Point2d border) {
+  const auto begin = [&](double c, double b) {
+    return std::max(static_cast<int>(std::ceil(1.0 + b)),
+                    static_cast<int>(std::ceil(3.0 + b - (c - margin))));
+  };
+  const auto end = [&](double c, double b, int length) {
+    return std::min(static_cast<int>(std::floor(length - 1.0 - b)),
+                    static_cast<int>(std::floor(length - 4.0 - b - (c + margin))) + 1);
+  };
+  const int x0 = begin(center.x, border.x), y0 = begin(center.y, border.y);
+  const int x1 = end(center.x, border.x, size.width), y1 = end(center.y, border.y, size.height);
+  if (x1 <= x0 || y1 <= y0) return cv::Rect();
+  return cv::Rect(x0, y0, x1 - x0, y1 - y0);
 }
 
 // Solves J^T J d = -J^T r for the active parameters (2 or 4). False when the system is not
@@ -257,9 +278,18 @@ LucasKanadeResult RegisterLucasKanade(const cv::Mat& reference, const cv::Mat& n
     int iterations = 0;
     NormalEquations equations;
     cv::Matx22d shift_block_inverse = cv::Matx22d::zeros();
+    constexpr double kDomainMarginPx = 2.0;
+    cv::Point2d domain_center = t_level;
+    const cv::Point2d border = options.border_px * scale;
+    cv::Rect domain = StableDomain(r_level.size(), domain_center, kDomainMarginPx, border);
     for (; iterations < options.max_iterations; ++iterations) {
+      if (std::abs(t_level.x - domain_center.x) > kDomainMarginPx ||
+          std::abs(t_level.y - domain_center.y) > kDomainMarginPx) {
+        domain_center = t_level;
+        domain = StableDomain(r_level.size(), domain_center, kDomainMarginPx, border);
+      }
       if (!Linearise(r_level, gx, gy, n_level, t_level, gain, bias, options.estimate_gain_bias,
-                     options.interpolation, std::max(min_pixels, 8), &equations)) {
+                     options.interpolation, std::max(min_pixels, 8), domain, &equations)) {
         break;
       }
       cv::Vec4d step;

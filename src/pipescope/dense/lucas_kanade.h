@@ -31,6 +31,12 @@ struct LucasKanadeOptions {
   // this fraction of the level is not used; if that happens at full resolution the result is
   // not converged.
   double min_overlap_fraction = 0.25;
+  // Pixels within this distance (x, y) of either image's edges are not compared (full
+  // resolution; scaled down with the pyramid). For images whose filtering treats the edges
+  // differently from the interior, such as local contrast normalisation (local_contrast.h): near
+  // an edge the filter's support is one-sided, a difference fixed in the frame that pulls the
+  // shift across that edge towards zero.
+  cv::Point2d border_px{0.0, 0.0};
 };
 
 struct LucasKanadeResult {

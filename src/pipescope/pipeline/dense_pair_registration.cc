@@ -94,6 +94,11 @@ double OverlapCorrelation(const cv::Mat& reference, const cv::Mat& next, cv::Poi
   if (reference_area.area() < 4) return 0.0;
   const cv::Mat a = reference(reference_area);
   const cv::Mat b = next(reference_area + t);
+  // OpenCV scores a constant template 1; a uniform overlap (a black frame) matches nothing.
+  cv::Scalar mean_a, deviation_a, mean_b, deviation_b;
+  cv::meanStdDev(a, mean_a, deviation_a);
+  cv::meanStdDev(b, mean_b, deviation_b);
+  if (!(deviation_a[0] > 0.0 && deviation_b[0] > 0.0)) return 0.0;
   cv::Mat result;
   cv::matchTemplate(a, b, result, cv::TM_CCOEFF_NORMED);
   const double value = result.at<float>(0, 0);

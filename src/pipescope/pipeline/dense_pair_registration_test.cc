@@ -163,5 +163,17 @@ TEST(OverlapCorrelation, IsOneForExactlyShiftedContentAndMatchesANaiveZncc) {
   EXPECT_NEAR(OverlapCorrelation(reference, next, {1.0, 0.0}), naive, 1e-4);
 }
 
+// A uniform overlap (a black frame, a lens cap) correlates with nothing: cv::matchTemplate alone
+// scores a constant template 1, and a black frame passed as registered.
+TEST(OverlapCorrelation, IsZeroForAUniformOverlap) {
+  cv::Mat textured(120, 160, CV_32F);
+  cv::RNG rng(10);
+  rng.fill(textured, cv::RNG::UNIFORM, 0.0, 255.0);
+  const cv::Mat black = cv::Mat::zeros(textured.size(), CV_32F);
+  EXPECT_EQ(OverlapCorrelation(textured, black, {2.0, 1.0}), 0.0);
+  EXPECT_EQ(OverlapCorrelation(black, textured, {2.0, 1.0}), 0.0);
+  EXPECT_EQ(OverlapCorrelation(black, black, {0.0, 0.0}), 0.0);
+}
+
 }  // namespace
 }  // namespace pipescope

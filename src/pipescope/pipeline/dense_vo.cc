@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "pipescope/dense/local_contrast.h"
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/image/undistortion.h"
 #include "pipescope/io/image_source.h"
@@ -172,9 +173,22 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   // On the unrolled wall roll is a translation: phase correlation's rotation (003 eq. 7) would
   // only add noise.
   if (on_unrolled_wall) registration.phase.estimate_rotation = false;
-  const bool presmooth =
-      options.presmooth_sigma_px > 0.0 && (registration_method == DenseMethod::kLucasKanade ||
-                                           registration_method == DenseMethod::kHybrid);
+  const bool gauss_newton = registration_method == DenseMethod::kLucasKanade ||
+                            registration_method == DenseMethod::kHybrid;
+  const bool presmooth = gauss_newton && options.presmooth_sigma_px > 0.0;
+  const bool normalise_contrast = gauss_newton && options.contrast_normalisation_px > 0.0;
+  if (normalise_contrast) {
+    // The planar methods normalise the whole prepared frame and cut the band from it, so the
+    // band's edges across the pipe see a two-sided filter; at the frame's ends along the pipe
+    // (and around the unrolled frame) Gauss-Newton leaves out two sigmas, where the filter is
+    // one-sided (dense/lucas_kanade.h, border_px).
+    const double border = 2.0 * options.contrast_normalisation_px;
+    const cv::Point2d border_px = on_unrolled_wall ? cv::Point2d(border, border)
+                                  : along_image_x  ? cv::Point2d(border, 0.0)
+                                                   : cv::Point2d(0.0, border);
+    registration.lucas_kanade.border_px = border_px;
+    registration.hybrid.refinement.border_px = border_px;
+  }
   DenseVoResult result;
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
   ImageSourceOptions source_options{camera.Width(), camera.Height()};
@@ -213,14 +227,18 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       current = unrolled->Unroll(preparation.CorrectAndDownsample(frame->grey));
     } else {
       mosaic_frame = preparation.Prepare(frame->grey);
-      current = mosaic_frame(band);
+      current = mosaic_frame;
     }
+    // Both filters write a new image: `current` may be the frame the image mosaic adds.
     if (presmooth) {
-      // Into a new image: `current` may view the frame the image mosaic adds.
       cv::Mat smoothed;
       cv::GaussianBlur(current, smoothed, cv::Size(), options.presmooth_sigma_px);
       current = smoothed;
     }
+    if (normalise_contrast) {
+      current = NormaliseLocalContrast(current, options.contrast_normalisation_px);
+    }
+    if (!on_unrolled_wall) current = current(band);
     result.preparing_seconds += stage.Lap();
     DenseFrameRecord record;
     record.index = frame->index;

@@ -30,6 +30,7 @@ const std::set<std::string> kKeys = {"downsample",
                                      "key_frame_wait_fraction",
                                      "key_frame_max_failures",
                                      "presmooth_sigma_px",
+                                     "contrast_normalisation_px",
                                      "unrolled_registration"};
 
 void RequireRange(const std::filesystem::path& file, const std::string& key, double value,
@@ -111,6 +112,10 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "presmooth_sigma_px", *value, 0.0, 10.0);
     options->presmooth_sigma_px = *value;
   }
+  if (auto value = OptionalYamlValue<double>(root, "contrast_normalisation_px", path)) {
+    RequireRange(path, "contrast_normalisation_px", *value, 0.0, 50.0);
+    options->contrast_normalisation_px = *value;
+  }
   if (auto value = OptionalYamlValue<std::string>(root, "unrolled_registration", path)) {
     if (*value != "phase" && *value != "hybrid") {
       throw InputError(path.string() +
@@ -151,6 +156,7 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
       {"key_frame_wait_fraction", options.key_frame_wait_fraction},
       {"key_frame_max_failures", options.key_frame_max_failures},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
+      {"contrast_normalisation_px", options.contrast_normalisation_px},
       {"unrolled_registration",
        options.unrolled_registration == DenseMethod::kPhase ? "phase" : "hybrid"},
       {"mosaic", options.build_mosaic},

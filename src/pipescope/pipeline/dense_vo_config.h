@@ -19,6 +19,7 @@ namespace pipescope {
 //   max_rotation_deg       phase: the rotation search's range
 //   registration_band      planar methods: fraction of the frame across the pipe registered
 //   presmooth_sigma_px     Gauss-Newton methods: Gaussian smoothing before registration
+//   contrast_normalisation_px  Gauss-Newton methods: local contrast normalisation's sigma (0 off)
 //   axis_along_pipe        x, -x, y or -y: the camera axis pointing down the pipe
 //   mosaic                 write mosaic.png
 //   mosaic_spacing_px      frames used in the mosaic are at least this far apart
