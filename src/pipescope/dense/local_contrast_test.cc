@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "pipescope/dense/lucas_kanade.h"
 #include "pipescope/dense/testing.h"
@@ -26,6 +27,24 @@ TEST(LocalContrast, IgnoresGainAndOffsetExactly) {
   const double rms = cv::norm(normalised, cv::NORM_L2) / std::sqrt(normalised.total());
   EXPECT_GT(rms, 0.9);
   EXPECT_LT(rms, 1.01);
+}
+
+// The formula with OpenCV's own Gaussian blur, zeros outside and every weight blurred in 2D.
+TEST(LocalContrast, MatchesTheFormulaByGaussianBlur) {
+  const RegistrationPair pair = MakeRegistrationPair({160, 72}, {0.0, 0.0}, 0.0, 1.0, 7);
+  const double sigma = 8.0;
+  const auto local_mean = [&](const cv::Mat& field) {
+    cv::Mat blurred, coverage;
+    cv::GaussianBlur(field, blurred, cv::Size(), sigma, 0.0, cv::BORDER_CONSTANT);
+    cv::GaussianBlur(cv::Mat::ones(field.size(), CV_32F), coverage, cv::Size(), sigma, 0.0,
+                     cv::BORDER_CONSTANT);
+    return cv::Mat(blurred / coverage);
+  };
+  const cv::Mat detail = pair.reference - local_mean(pair.reference);
+  const cv::Mat variance = local_mean(detail.mul(detail));
+  cv::Mat contrast;
+  cv::sqrt(variance + 0.01 * cv::mean(variance)[0], contrast);
+  EXPECT_LT(RmsDifference(NormaliseLocalContrast(pair.reference, sigma), detail / contrast), 1e-4);
 }
 
 // The wall's texture times a contrast envelope fixed in the frame: a stripe across the motion,
