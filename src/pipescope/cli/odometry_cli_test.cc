@@ -54,6 +54,7 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
     EXPECT_EQ(report["method"], method);
     EXPECT_EQ(report["options"]["downsample"], 2);
     EXPECT_EQ(report["options"]["unrolled_registration"], "phase");
+    EXPECT_EQ(report["options"]["max_departure_from_prediction_px"], 16.0);
     EXPECT_EQ(report["counts"]["pairs_integer_only"], report["integer_only_frames"].size());
     EXPECT_EQ(report["counts"]["frames_localised"], 30);
     EXPECT_TRUE(report["failed_frames"].is_array());
@@ -72,6 +73,7 @@ TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {
   WriteTextFileAtomically(*dir_ / "typo.yaml", "downsampel: 2\n");
   WriteTextFileAtomically(*dir_ / "range.yaml", "registration_band: 1.5\n");
   WriteTextFileAtomically(*dir_ / "choice.yaml", "unrolled_registration: lk\n");
+  WriteTextFileAtomically(*dir_ / "gate.yaml", "max_departure_from_prediction_px: -1\n");
   const std::string ds = Path("ds");
   const std::vector<Case> cases = {
       {ds + " --method dense-foo --out " + Path("bad1"), "--method"},
@@ -84,13 +86,15 @@ TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {
       {Path("nowhere") + " --method dense-sad --out " + Path("bad5"), "nowhere"},
       {ds + " --method dense-unrolled --out " + Path("bad6") + " --config " + Path("choice.yaml"),
        "unrolled_registration"},
+      {ds + " --method dense-sad --out " + Path("bad7") + " --config " + Path("gate.yaml"),
+       "max_departure_from_prediction_px"},
   };
   for (const Case& c : cases) {
     const CommandResult result = RunPipescope("odometry " + c.arguments + " -q");
     EXPECT_EQ(result.exit_status, 2) << c.arguments << "\n" << result.output;
     EXPECT_NE(result.output.find(c.culprit), std::string::npos) << result.output;
   }
-  for (const char* run : {"bad1", "bad2", "bad3", "bad4", "bad5", "bad6"}) {
+  for (const char* run : {"bad1", "bad2", "bad3", "bad4", "bad5", "bad6", "bad7"}) {
     EXPECT_FALSE(std::filesystem::exists(Path(run))) << run;
   }
 }

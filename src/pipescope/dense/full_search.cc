@@ -201,6 +201,7 @@ FullSearchResult RegisterFullSearch(const cv::Mat& reference, const cv::Mat& nex
   cv::Mat r, n;
   PrepareRegistrationPair(reference, next, "full search", &r, &n);
   FullSearchResult result;
+  result.metric = options.cost;
   result.max_shift_x_px = std::clamp(options.max_shift_x_px, 0, r.cols - 1);
   result.max_shift_y_px = std::clamp(options.max_shift_y_px, 0, r.rows - 1);
   const ShiftWindow full{-result.max_shift_x_px, result.max_shift_x_px, -result.max_shift_y_px,
@@ -271,11 +272,14 @@ cv::Point2d RoundingResidual(const FullSearchResult& result) {
   if (costs.empty() || row < 0 || row >= costs.rows || column < 0 || column >= costs.cols) {
     return {0.0, 0.0};
   }
-  // The vertex of the parabola through (-1, before), (0, best), (1, after).
-  const auto vertex = [](double before, double best, double after) {
+  // The minimum of the parabola, or the V, through (-1, before), (0, best), (1, after).
+  const bool v_shaped = result.metric == FullSearchCost::kSad;
+  const auto vertex = [v_shaped](double before, double best, double after) {
     const double curvature = before - 2.0 * best + after;
     if (!std::isfinite(before) || !std::isfinite(after) || !(curvature > 0.0)) return 0.0;
-    return std::clamp(0.5 * (before - after) / curvature, -0.5, 0.5);
+    // The V's steeper side is the one with the higher neighbour: its slope is that rise.
+    const double scale = v_shaped ? std::max(before, after) - best : curvature;
+    return std::clamp(0.5 * (before - after) / scale, -0.5, 0.5);
   };
   const double best = costs.at<double>(row, column);
   const auto at = [&](int r, int c) {

@@ -43,6 +43,7 @@ struct FullSearchOptions {
 struct FullSearchResult {
   cv::Point shift;  // the best integer shift t (see the sign convention above)
   double cost = 0;  // its cost: per overlap pixel for SAD and SSD, in [-1, 1] for ZNCC
+  FullSearchCost metric = FullSearchCost::kSsd;  // the error function that scored the window
   // CV_64F, (2 max_shift_y_px + 1) rows by (2 max_shift_x_px + 1) columns (after clamping):
   // element (ty + max_shift_y_px, tx + max_shift_x_px) is the cost of shift (tx, ty), +inf where
   // the overlap is too small or, with pyramid_levels > 0, the shift was not evaluated.
@@ -65,8 +66,12 @@ FullSearchResult RegisterFullSearch(const cv::Mat& reference, const cv::Mat& nex
                                     const FullSearchOptions& options = {});
 
 // Where the cost surface's minimum lies relative to the best integer shift, per axis, from the
-// parabola through the best cost and its two neighbours on that axis: in (-0.5, 0.5), 0 on an
-// axis where a neighbour is missing (window edge, not evaluated) or the parabola is not convex.
+// best cost and its two neighbours on that axis: the vertex of the parabola through them for SSD
+// and ZNCC, whose costs are quadratic about the minimum; for SAD, whose cost is V-shaped
+// (|t - r| times the summed gradient, to first order), of the two lines of opposite slopes
+// through them (equiangular fit; the parabola would halve small residuals). In [-0.5, 0.5], 0 on
+// an axis where a neighbour is missing (window edge, not evaluated) or the best is not lower
+// than both neighbours' mean.
 // Not a registration: the full search stays integer (000 Algorithm 1); this says how much its
 // rounding threw away, which the odometry uses to place key frames (pipeline/dense_vo.h).
 cv::Point2d RoundingResidual(const FullSearchResult& result);

@@ -145,11 +145,10 @@ TEST_P(FullSearchCostTest, SubPixelShiftRoundsToNearest) {
 }
 
 TEST_P(FullSearchCostTest, RoundingResidualPointsToTheTrueShift) {
-  // The residual is a parabola's vertex, not an interpolation of the true shift: SAD's cost is
-  // V-shaped, so only its sign and rough size are asked of it.
+  // The residual is a fit to three costs, not an interpolation of the true shift.
   FullSearchOptions options;
   options.cost = GetParam();
-  const double tolerance = GetParam() == FullSearchCost::kSad ? 0.2 : 0.1;
+  const double tolerance = 0.1;
   for (const cv::Point2d shift : {cv::Point2d(6.3, -2.8), cv::Point2d(-3.1, 4.45),
                                   cv::Point2d(2.0, 1.0), cv::Point2d(-7.4, -0.15)}) {
     const RegistrationPair pair = MakeRegistrationPair({160, 120}, shift, 0.0, 1.0, 3);
@@ -193,6 +192,7 @@ TEST(FullSearch, ZnccIgnoresGainAndBias) {
 
 TEST(FullSearch, RoundingResidualIsZeroWithoutBothNeighbours) {
   FullSearchResult result;
+  result.metric = FullSearchCost::kSsd;
   result.max_shift_x_px = 1;
   result.max_shift_y_px = 1;
   const double inf = std::numeric_limits<double>::infinity();
@@ -208,6 +208,28 @@ TEST(FullSearch, RoundingResidualIsZeroWithoutBothNeighbours) {
   const cv::Point2d residual = RoundingResidual(result);
   EXPECT_DOUBLE_EQ(residual.x, 0.5);
   EXPECT_DOUBLE_EQ(residual.y, 0.5 * (4.0 - 6.0) / (4.0 - 4.0 + 6.0));
+}
+
+TEST(FullSearch, SadRoundingResidualIsTheVertexOfAV) {
+  // Costs 2 |t - r| + 1 at t = -1, 0, 1 for r = 0.3 along x and r = -0.2 along y: the V's
+  // vertex is r exactly; the parabola through the same costs would say 0.3 / 1.4 and -0.2 / 1.6.
+  FullSearchResult result;
+  result.metric = FullSearchCost::kSad;
+  result.max_shift_x_px = 1;
+  result.max_shift_y_px = 1;
+  const auto cost = [](double t, double r) { return 2.0 * std::abs(t - r) + 1.0; };
+  result.cost_surface = cv::Mat(3, 3, CV_64F, cv::Scalar(10.0));
+  result.cost_surface.at<double>(1, 0) = cost(-1, 0.3);
+  result.cost_surface.at<double>(1, 1) = cost(0, 0.3);
+  result.cost_surface.at<double>(1, 2) = cost(1, 0.3);
+  result.cost_surface.at<double>(0, 1) = cost(-1, -0.2) + cost(0, 0.3) - cost(0, -0.2);
+  result.cost_surface.at<double>(2, 1) = cost(1, -0.2) + cost(0, 0.3) - cost(0, -0.2);
+  result.shift = cv::Point(0, 0);
+  const cv::Point2d residual = RoundingResidual(result);
+  EXPECT_NEAR(residual.x, 0.3, 1e-12);
+  EXPECT_NEAR(residual.y, -0.2, 1e-12);
+  result.metric = FullSearchCost::kSsd;
+  EXPECT_NEAR(RoundingResidual(result).x, 0.3 / 1.4, 1e-12);
 }
 
 TEST(FullSearch, ClampsWindowToImage) {

@@ -14,6 +14,7 @@
 #include "pipescope/mapping/image_mosaic.h"
 #include "pipescope/mapping/unrolled_mosaic_pass.h"
 #include "pipescope/pipeline/foreshortening.h"
+#include "pipescope/pipeline/motion_prediction.h"
 #include "pipescope/pipeline/unrolled_wall_registration.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
@@ -88,7 +89,7 @@ double KeyFrameShiftFraction(DenseMethod method) {
 }
 
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
-                   bool along_image_x, const DenseVoOptions& options) {
+                   bool along_image_x, const DenseVoOptions& options, double carried_rounding_px) {
   if (!ShiftReaches(motion, shift_fraction, frame)) return false;
   if (shift_fraction <= 0.0 ||
       ShiftReaches(motion, shift_fraction + options.key_frame_wait_fraction, frame)) {
@@ -99,7 +100,9 @@ bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size fra
   if (motion.integer_only) return false;
   if (!motion.rounding_residual) return true;
   const cv::Point2d& residual = *motion.rounding_residual;
-  return std::abs(along_image_x ? residual.x : residual.y) <= options.key_frame_max_rounding_px;
+  const double carried_after = carried_rounding_px + (along_image_x ? residual.x : residual.y);
+  return std::abs(carried_after) <=
+         options.key_frame_max_rounding_px + std::max(0.0, std::abs(carried_rounding_px) - 0.5);
 }
 
 DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
@@ -207,12 +210,14 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   };
   std::optional<KeyFrame> key;
   int failures_in_row = 0;  // on the current key frame
-  // The previous frame's motion from the key frame, and the last good frame's motion from the
-  // frame before with its time step (0: none yet), for the constant-velocity prediction.
+  // The integer searches' rounding residuals along the pipe, summed over the key frames so far:
+  // the travel (in prepared pixels) their whole-pixel shifts have left out.
+  double carried_rounding_px = 0.0;
+  // The previous frame's motion from the key frame, and the good pairs' motion for the
+  // constant-velocity prediction.
   cv::Point2d previous_shift(0.0, 0.0);
   double previous_rotation = 0.0;
-  cv::Point2d velocity_shift(0.0, 0.0);
-  double velocity_rotation = 0.0, velocity_dt = 0.0;
+  MotionPredictor predictor;
   double previous_timestamp = 0.0;
   const double key_shift_fraction =
       options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method));
@@ -250,10 +255,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     bool new_key = true;
     if (key) {
       const double dt = frame->timestamp - previous_timestamp;
-      // Constant velocity: the last good frame's motion, scaled to this time step.
-      const double ratio = velocity_dt > 0.0 ? dt / velocity_dt : 0.0;
-      const cv::Point2d step = velocity_shift * ratio;
-      const double step_rotation = velocity_rotation * ratio;
+      const ImageStep predicted = predictor.Predict(dt);
+      const cv::Point2d step = predicted.shift;
+      const double step_rotation = predicted.rotation_rad;
       PairMotion motion;
       if (saturated > options.max_saturated_fraction) {
         motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
@@ -261,11 +265,17 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       } else {
         motion = RegisterPlanarPair(registration_method, key->image, current, registration,
                                     previous_shift + step, previous_rotation + step_rotation);
+        const bool velocity_known = failures_in_row == 0 && predictor.Known();
+        const double departure = cv::norm(motion.shift - (previous_shift + step));
+        if (motion.failure.empty() && velocity_known &&
+            options.max_departure_from_prediction_px > 0.0 &&
+            departure > options.max_departure_from_prediction_px) {
+          motion.failure = "shift " + std::to_string(static_cast<int>(std::round(departure))) +
+                           " px from the constant-velocity prediction";
+        }
       }
       if (motion.failure.empty()) {
-        velocity_shift = motion.shift - previous_shift;
-        velocity_rotation = motion.rotation_rad - previous_rotation;
-        velocity_dt = dt;
+        predictor.Add({motion.shift - previous_shift, motion.rotation_rad - previous_rotation}, dt);
       } else {
         ++result.failed_pairs;
         motion.shift = previous_shift + step;
@@ -289,11 +299,15 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       }
       content_offset = key->content_offset - motion.shift;
       failures_in_row = motion.failure.empty() ? 0 : failures_in_row + 1;
-      new_key =
-          motion.failure.empty()
-              ? KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x, options)
-              : FailedFrameBecomesKey(motion, failures_in_row, key_shift_fraction, current.size(),
-                                      options);
+      new_key = motion.failure.empty()
+                    ? KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x,
+                                    options, carried_rounding_px)
+                    : FailedFrameBecomesKey(motion, failures_in_row, key_shift_fraction,
+                                            current.size(), options);
+      if (new_key && motion.failure.empty() && motion.rounding_residual) {
+        carried_rounding_px +=
+            along_image_x ? motion.rounding_residual->x : motion.rounding_residual->y;
+      }
       previous_shift = motion.shift;
       previous_rotation = motion.rotation_rad;
     }

@@ -43,10 +43,12 @@ struct DenseVoOptions {
   std::optional<double> key_frame_shift_fraction;
   // The integer full searches (dense-sad, -ssd, -zncc) lose the fraction their rounding throws
   // away at every key frame; it is their error. Past key_frame_shift_fraction, such a frame
-  // becomes the key frame only when its rounding residual along the pipe (dense/full_search.h)
-  // is at most key_frame_max_rounding_px, or once its shift has grown by key_frame_wait_fraction
-  // more of the frame. Beyond 000; 0.5 px (or a wait of 0) turns it off, and frame-to-frame
-  // registration (key_frame_shift_fraction 0) never waits.
+  // becomes the key frame only when its rounding residual along the pipe (dense/full_search.h),
+  // added to what the earlier key frames' residuals sum to, is at most
+  // key_frame_max_rounding_px, or once its shift has grown by key_frame_wait_fraction more of
+  // the frame. Carrying the sum over (as error diffusion does) keeps the roundings from adding
+  // up as a random walk over the key frames. Beyond 000; 0.5 px (or a wait of 0) turns it off,
+  // and frame-to-frame registration (key_frame_shift_fraction 0) never waits.
   double key_frame_max_rounding_px = 0.15;
   double key_frame_wait_fraction = 0.1;
   // A frame whose registration failed (blur, a dark or saturated frame) gets a predicted pose but
@@ -56,6 +58,13 @@ struct DenseVoOptions {
   // shift is past key_frame_shift_fraction + key_frame_wait_fraction. 1: every failed frame
   // becomes the key frame, as before session 9.
   int key_frame_max_failures = 3;
+  // A registration that lands farther than this (prepared pixels, Euclidean) from the
+  // constant-velocity prediction (pipeline/motion_prediction.h) fails, unless the pair before it
+  // failed too: a crawler at 30 frames a second cannot change its image motion that much, and
+  // such a shift is a false minimum, such as a painted marking's straight edge matched along
+  // itself (steel-16in seed 3, dense-ssd: 29 px off the prediction, 43 mm of error). The
+  // simulator's instant turnaround changes it by twice the speed, 12 px on steel-16in. 0 = off.
+  double max_departure_from_prediction_px = 16.0;
   // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
   // line so that every line of the band moves at the same rate along the pipe, and that rate
   // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
@@ -144,11 +153,14 @@ double KeyFrameShiftFraction(DenseMethod method);
 
 // Whether a frame registered to the key frame without failure, with `motion` from it, becomes
 // the next key frame: its shift has reached shift_fraction of `frame` along either axis and,
-// for an integer search, its rounding residual along the pipe is small enough or the wait is over
+// for an integer search, its rounding residual along the pipe plus `carried_rounding_px` (the
+// sum of the earlier key frames' residuals) is small enough, or the wait is over
 // (DenseVoOptions' key_frame_max_rounding_px and key_frame_wait_fraction); a pair whose hybrid
-// refinement was not used (PairMotion::integer_only) waits likewise.
+// refinement was not used (PairMotion::integer_only) waits likewise. A carried sum beyond what
+// one residual (at most 0.5 px) can cancel is accepted as reduced by key_frame_max_rounding_px.
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
-                   bool along_image_x, const DenseVoOptions& options);
+                   bool along_image_x, const DenseVoOptions& options,
+                   double carried_rounding_px = 0.0);
 
 // Whether a frame whose registration failed, with its predicted `motion` from the key frame,
 // becomes the next key frame (DenseVoOptions::key_frame_max_failures): after that many failures

@@ -29,6 +29,7 @@ const std::set<std::string> kKeys = {"downsample",
                                      "key_frame_max_rounding_px",
                                      "key_frame_wait_fraction",
                                      "key_frame_max_failures",
+                                     "max_departure_from_prediction_px",
                                      "presmooth_sigma_px",
                                      "contrast_normalisation_px",
                                      "unrolled_registration"};
@@ -105,6 +106,10 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "key_frame_max_failures", *value, 1, 1000);
     options->key_frame_max_failures = *value;
   }
+  if (auto value = OptionalYamlValue<double>(root, "max_departure_from_prediction_px", path)) {
+    RequireRange(path, "max_departure_from_prediction_px", *value, 0.0, 1e4);
+    options->max_departure_from_prediction_px = *value;
+  }
   if (auto value = OptionalYamlValue<bool>(root, "foreshortening_correction", path)) {
     options->foreshortening_correction = *value;
   }
@@ -155,6 +160,7 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
       {"key_frame_max_rounding_px", options.key_frame_max_rounding_px},
       {"key_frame_wait_fraction", options.key_frame_wait_fraction},
       {"key_frame_max_failures", options.key_frame_max_failures},
+      {"max_departure_from_prediction_px", options.max_departure_from_prediction_px},
       {"presmooth_sigma_px", options.presmooth_sigma_px},
       {"contrast_normalisation_px", options.contrast_normalisation_px},
       {"unrolled_registration",

@@ -1,0 +1,35 @@
+#include "pipescope/pipeline/motion_prediction.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace pipescope {
+namespace {
+
+// The median of the values, the mean of the middle two for an even count.
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+void MotionPredictor::Add(const ImageStep& step, double dt) {
+  if (!(dt > 0.0) || capacity_ == 0) return;
+  rates_.push_back({step.shift * (1.0 / dt), step.rotation_rad / dt});
+  while (rates_.size() > capacity_) rates_.pop_front();
+}
+
+ImageStep MotionPredictor::Predict(double dt) const {
+  if (rates_.empty()) return {};
+  std::vector<double> x, y, rotation;
+  for (const ImageStep& rate : rates_) {
+    x.push_back(rate.shift.x);
+    y.push_back(rate.shift.y);
+    rotation.push_back(rate.rotation_rad);
+  }
+  return {cv::Point2d(Median(x), Median(y)) * dt, Median(rotation) * dt};
+}
+
+}  // namespace pipescope
