@@ -82,6 +82,12 @@ bool FailedFrameBecomesKey(const PairMotion& motion, int failures_in_row, double
          ShiftReaches(motion, shift_fraction + options.key_frame_wait_fraction, frame);
 }
 
+double KeyFrameFractionTarget(int n) {
+  const double golden_fraction = 0.5 * (std::sqrt(5.0) - 1.0);
+  const double value = n * golden_fraction;
+  return value - std::floor(value);
+}
+
 double KeyFrameShiftFraction(DenseMethod method) {
   const bool integer_search =
       method == DenseMethod::kSad || method == DenseMethod::kSsd || method == DenseMethod::kZncc;
@@ -89,7 +95,8 @@ double KeyFrameShiftFraction(DenseMethod method) {
 }
 
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
-                   bool along_image_x, const DenseVoOptions& options, double carried_rounding_px) {
+                   bool along_image_x, const DenseVoOptions& options, double carried_rounding_px,
+                   std::optional<double> fraction_target) {
   if (!ShiftReaches(motion, shift_fraction, frame)) return false;
   if (shift_fraction <= 0.0 ||
       ShiftReaches(motion, shift_fraction + options.key_frame_wait_fraction, frame)) {
@@ -98,7 +105,14 @@ bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size fra
   // A whole-pixel shift kept by dense-hybrid carries up to half a pixel into every later frame
   // if it becomes the key frame; the next frame's refinement will most likely do.
   if (motion.integer_only) return false;
-  if (!motion.rounding_residual) return true;
+  if (!motion.rounding_residual) {
+    if (!fraction_target || !(options.key_frame_fraction_tolerance_px > 0.0)) return true;
+    const double along = along_image_x ? motion.shift.x : motion.shift.y;
+    const double offset = along - std::floor(along) - *fraction_target;
+    // The distance on the circle of fractions, in [0, 0.5].
+    const double distance = std::abs(offset - std::round(offset));
+    return distance <= options.key_frame_fraction_tolerance_px;
+  }
   const cv::Point2d& residual = *motion.rounding_residual;
   const double carried_after = carried_rounding_px + (along_image_x ? residual.x : residual.y);
   return std::abs(carried_after) <=
@@ -213,6 +227,14 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   // The integer searches' rounding residuals along the pipe, summed over the key frames so far:
   // the travel (in prepared pixels) their whole-pixel shifts have left out.
   double carried_rounding_px = 0.0;
+  // The key frames so far, for the next one's target fraction (Gauss-Newton methods only:
+  // phase correlation's error hardly depends on the fraction, and spreading it cost phase and
+  // dense-unrolled a little, docs/dense_vo.md).
+  int key_frames_chosen = 0;
+  const auto fraction_target = [&]() -> std::optional<double> {
+    if (!gauss_newton) return std::nullopt;
+    return KeyFrameFractionTarget(key_frames_chosen + 1);
+  };
   // The previous frame's motion from the key frame, and the good pairs' motion for the
   // constant-velocity prediction.
   cv::Point2d previous_shift(0.0, 0.0);
@@ -301,7 +323,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       failures_in_row = motion.failure.empty() ? 0 : failures_in_row + 1;
       new_key = motion.failure.empty()
                     ? KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x,
-                                    options, carried_rounding_px)
+                                    options, carried_rounding_px, fraction_target())
                     : FailedFrameBecomesKey(motion, failures_in_row, key_shift_fraction,
                                             current.size(), options);
       if (new_key && motion.failure.empty() && motion.rounding_residual) {
@@ -313,6 +335,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     }
     record.key_frame = new_key;
     if (new_key) {
+      ++key_frames_chosen;
       failures_in_row = 0;
       key = KeyFrame{current, pose, travel, roll, content_offset};
       previous_shift = cv::Point2d(0.0, 0.0);

@@ -51,6 +51,16 @@ struct DenseVoOptions {
   // and frame-to-frame registration (key_frame_shift_fraction 0) never waits.
   double key_frame_max_rounding_px = 0.15;
   double key_frame_wait_fraction = 0.1;
+  // Gauss-Newton's registrations (dense-lk, dense-hybrid, and dense-unrolled registered by the
+  // hybrid method) carry a small bias that depends on the fraction of a pixel in the shift
+  // (pixel locking). When the speed varies, the key frames' fractions vary and the bias averages
+  // out over them; at constant speed every key frame falls at nearly the same fraction and the
+  // bias adds up (steel-16in at constant speed, dense-lk: between -0.11 and +0.04 % with the
+  // key-frame spacing). With this on, past key_frame_shift_fraction such a frame becomes the key
+  // frame only when the fraction of its shift along the pipe is within
+  // key_frame_fraction_tolerance_px of the next of a sequence of targets spread evenly over the
+  // pixel (the golden ratio's multiples), or once the key-frame wait is over. 0 = off.
+  double key_frame_fraction_tolerance_px = 0.25;
   // A frame whose registration failed (blur, a dark or saturated frame) gets a predicted pose but
   // does not become the key frame: the next frame is registered to the same key, so one bad
   // frame costs only its own pose. The predicted frame becomes the key frame after this many
@@ -158,9 +168,17 @@ double KeyFrameShiftFraction(DenseMethod method);
 // (DenseVoOptions' key_frame_max_rounding_px and key_frame_wait_fraction); a pair whose hybrid
 // refinement was not used (PairMotion::integer_only) waits likewise. A carried sum beyond what
 // one residual (at most 0.5 px) can cancel is accepted as reduced by key_frame_max_rounding_px.
+// For a sub-pixel method, with `fraction_target` set (the odometry sets it for the Gauss-Newton
+// methods), the fraction of its shift along the pipe must also be within
+// key_frame_fraction_tolerance_px of the target (DenseVoOptions).
 bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
                    bool along_image_x, const DenseVoOptions& options,
-                   double carried_rounding_px = 0.0);
+                   double carried_rounding_px = 0.0,
+                   std::optional<double> fraction_target = std::nullopt);
+
+// The fraction of a pixel the n-th key frame of a Gauss-Newton method aims at: n times the golden
+// ratio's fraction, modulo 1, spread evenly over [0, 1) for any count of key frames.
+double KeyFrameFractionTarget(int n);
 
 // Whether a frame whose registration failed, with its predicted `motion` from the key frame,
 // becomes the next key frame (DenseVoOptions::key_frame_max_failures): after that many failures

@@ -29,6 +29,7 @@ const std::set<std::string> kKeys = {"downsample",
                                      "key_frame_max_rounding_px",
                                      "key_frame_wait_fraction",
                                      "key_frame_max_failures",
+                                     "key_frame_fraction_tolerance_px",
                                      "max_departure_from_prediction_px",
                                      "presmooth_sigma_px",
                                      "contrast_normalisation_px",
@@ -102,6 +103,10 @@ void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* optio
     RequireRange(path, "key_frame_wait_fraction", *value, 0.0, 0.2);
     options->key_frame_wait_fraction = *value;
   }
+  if (auto value = OptionalYamlValue<double>(root, "key_frame_fraction_tolerance_px", path)) {
+    RequireRange(path, "key_frame_fraction_tolerance_px", *value, 0.0, 0.5);
+    options->key_frame_fraction_tolerance_px = *value;
+  }
   if (auto value = OptionalYamlValue<int>(root, "key_frame_max_failures", path)) {
     RequireRange(path, "key_frame_max_failures", *value, 1, 1000);
     options->key_frame_max_failures = *value;
@@ -159,6 +164,7 @@ nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
        options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method))},
       {"key_frame_max_rounding_px", options.key_frame_max_rounding_px},
       {"key_frame_wait_fraction", options.key_frame_wait_fraction},
+      {"key_frame_fraction_tolerance_px", options.key_frame_fraction_tolerance_px},
       {"key_frame_max_failures", options.key_frame_max_failures},
       {"max_departure_from_prediction_px", options.max_departure_from_prediction_px},
       {"presmooth_sigma_px", options.presmooth_sigma_px},

@@ -157,6 +157,39 @@ TEST(DenseVo, IntegerSearchWaitsForALowRoundingKeyFrame) {
   EXPECT_TRUE(KeyFrameIsDue(motion, 0.4, frame, true, options));
 }
 
+TEST(DenseVo, SubPixelKeyFrameFractionsSpreadOverThePixel) {
+  // Targets: multiples of the golden ratio's fraction, spread over [0, 1): any 8 consecutive
+  // ones leave no gap wider than a quarter pixel.
+  EXPECT_NEAR(KeyFrameFractionTarget(1), 0.6180339887, 1e-9);
+  EXPECT_NEAR(KeyFrameFractionTarget(2), 0.2360679775, 1e-9);
+  for (int first = 1; first < 200; first += 37) {
+    std::vector<double> targets;
+    for (int n = first; n < first + 8; ++n) targets.push_back(KeyFrameFractionTarget(n));
+    std::sort(targets.begin(), targets.end());
+    targets.push_back(targets.front() + 1.0);
+    for (std::size_t k = 1; k < targets.size(); ++k) EXPECT_LT(targets[k] - targets[k - 1], 0.25);
+  }
+  DenseVoOptions options;  // a tolerance of 0.25 px
+  const cv::Size frame(200, 100);
+  PairMotion motion;  // a sub-pixel method: no rounding residual
+  motion.shift = {20.7, 0.4};
+  EXPECT_FALSE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.2));  // 0.5 px off
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.6));
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.9));
+  motion.shift = {20.05, 0.4};
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.9));  // across 0
+  motion.shift = {20.7, 0.4};
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options));  // no target: due
+  motion.shift = {-20.7, 0.4};  // backwards: the fraction of -20.7 is 0.3
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.2));
+  EXPECT_FALSE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.7));
+  motion.shift = {-40.7, 0.4};  // the wait (0.1 more of the frame) is over
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.7));
+  options.key_frame_fraction_tolerance_px = 0.0;  // off
+  motion.shift = {20.7, 0.4};
+  EXPECT_TRUE(KeyFrameIsDue(motion, 0.1, frame, true, options, 0.0, 0.2));
+}
+
 TEST(DenseVo, IntegerSearchKeyFrameCancelsTheCarriedRounding) {
   DenseVoOptions options;  // 0.15 px
   const cv::Size frame(200, 100);
