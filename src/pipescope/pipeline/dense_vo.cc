@@ -231,6 +231,8 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   // phase correlation's error hardly depends on the fraction, and spreading it cost phase and
   // dense-unrolled a little, docs/dense_vo.md).
   int key_frames_chosen = 0;
+  // The registered images' axis of travel: the unrolled grid's h runs along its columns.
+  const bool travel_along_image_x = on_unrolled_wall || along_image_x;
   const auto fraction_target = [&]() -> std::optional<double> {
     if (!gauss_newton) return std::nullopt;
     return KeyFrameFractionTarget(key_frames_chosen + 1);
@@ -321,14 +323,15 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       }
       content_offset = key->content_offset - motion.shift;
       failures_in_row = motion.failure.empty() ? 0 : failures_in_row + 1;
-      new_key = motion.failure.empty()
-                    ? KeyFrameIsDue(motion, key_shift_fraction, current.size(), along_image_x,
-                                    options, carried_rounding_px, fraction_target())
-                    : FailedFrameBecomesKey(motion, failures_in_row, key_shift_fraction,
-                                            current.size(), options);
+      new_key =
+          motion.failure.empty()
+              ? KeyFrameIsDue(motion, key_shift_fraction, current.size(), travel_along_image_x,
+                              options, carried_rounding_px, fraction_target())
+              : FailedFrameBecomesKey(motion, failures_in_row, key_shift_fraction, current.size(),
+                                      options);
       if (new_key && motion.failure.empty() && motion.rounding_residual) {
         carried_rounding_px +=
-            along_image_x ? motion.rounding_residual->x : motion.rounding_residual->y;
+            travel_along_image_x ? motion.rounding_residual->x : motion.rounding_residual->y;
       }
       previous_shift = motion.shift;
       previous_rotation = motion.rotation_rad;
