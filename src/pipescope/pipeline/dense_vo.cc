@@ -279,18 +279,19 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
     bool new_key = true;
     if (key) {
       const double dt = frame->timestamp - previous_timestamp;
-      const ImageStep predicted = predictor.Predict(dt);
-      const cv::Point2d step = predicted.shift;
-      const double step_rotation = predicted.rotation_rad;
+      // The motion from the key frame at constant velocity.
+      const ImageStep step = predictor.Predict(dt);
+      const cv::Point2d predicted_shift = previous_shift + step.shift;
+      const double predicted_rotation = previous_rotation + step.rotation_rad;
       PairMotion motion;
       if (saturated > options.max_saturated_fraction) {
         motion.failure = std::to_string(static_cast<int>(std::round(100.0 * saturated))) +
                          " % of the pixels saturated";
       } else {
         motion = RegisterPlanarPair(registration_method, key->image, current, registration,
-                                    previous_shift + step, previous_rotation + step_rotation);
+                                    predicted_shift, predicted_rotation);
         const bool velocity_known = failures_in_row == 0 && predictor.Known();
-        const double departure = cv::norm(motion.shift - (previous_shift + step));
+        const double departure = cv::norm(motion.shift - predicted_shift);
         if (motion.failure.empty() && velocity_known &&
             options.max_departure_from_prediction_px > 0.0 &&
             departure > options.max_departure_from_prediction_px) {
@@ -302,8 +303,8 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
         predictor.Add({motion.shift - previous_shift, motion.rotation_rad - previous_rotation}, dt);
       } else {
         ++result.failed_pairs;
-        motion.shift = previous_shift + step;
-        motion.rotation_rad = previous_rotation + step_rotation;
+        motion.shift = predicted_shift;
+        motion.rotation_rad = predicted_rotation;
       }
       record.shift = motion.shift - previous_shift;
       record.rotation_rad = motion.rotation_rad - previous_rotation;

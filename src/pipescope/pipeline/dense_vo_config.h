@@ -20,6 +20,14 @@ namespace pipescope {
 //   registration_band      planar methods: fraction of the frame across the pipe registered
 //   presmooth_sigma_px     Gauss-Newton methods: Gaussian smoothing before registration
 //   contrast_normalisation_px  Gauss-Newton methods: local contrast normalisation's sigma (0 off)
+//   key_frame_shift_fraction   key frames renewed at this fraction of the frame (0 = frame to
+//   frame) key_frame_max_rounding_px  integer searches: rounding left (carried) at a key frame
+//   key_frame_wait_fraction    how much further a key frame may wait for its rounding or fraction
+//   key_frame_fraction_tolerance_px  Gauss-Newton methods: key frames' spread fractions (0 off)
+//   key_frame_max_failures     failed frames in a row before the predicted one becomes the key
+//   max_departure_from_prediction_px  a shift this far from the prediction fails (0 off)
+//   foreshortening_correction  planar methods: equalise the band's lines' axial rate
+//   unrolled_registration      dense-unrolled: phase or hybrid
 //   axis_along_pipe        x, -x, y or -y: the camera axis pointing down the pipe
 //   mosaic                 write mosaic.png
 //   mosaic_spacing_px      frames used in the mosaic are at least this far apart
