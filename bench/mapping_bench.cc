@@ -6,7 +6,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
-#include "pipescope/mapping/wall_unrolling.h"
+#include "pipescope/image/wall_unrolling.h"
 
 namespace pipescope {
 namespace {

@@ -14,6 +14,7 @@
 #include <regex>
 
 #include "pipescope/util/error.h"
+#include "pipescope/util/median.h"
 
 namespace pipescope {
 namespace {
@@ -256,8 +257,7 @@ EquidistantGuess EvaluateEquidistant(double k1, const Eigen::Vector2d& centre,
     }
     guess.cam_from_board.push_back(cam_from_board);
   }
-  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
-  guess.median_error_px = errors[errors.size() / 2];
+  if (!errors.empty()) guess.median_error_px = UpperMedian(std::move(errors));
   return guess;
 }
 

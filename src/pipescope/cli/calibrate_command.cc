@@ -17,6 +17,7 @@
 #include "pipescope/io/image_source.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
+#include "pipescope/util/median.h"
 #include "pipescope/util/progress.h"
 
 namespace pipescope {
@@ -85,9 +86,7 @@ Detections DetectBoards(const std::vector<fs::path>& paths, const CheckerboardSp
 }
 
 void PrintReport(const CalibrationResult& result, const std::vector<CalibrationView>& views) {
-  std::vector<double> sorted = result.view_rms_px;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const double median = UpperMedian(result.view_rms_px);
   std::size_t width = 5;
   for (const CalibrationView& view : views) width = std::max(width, view.name.size());
   std::printf("%-*s  %7s  %8s\n", static_cast<int>(width), "image", "corners", "rms_px");

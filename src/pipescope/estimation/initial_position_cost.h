@@ -15,7 +15,7 @@ namespace pipescope {
 // (eq. 35-39); X projects into b at u'(g) through the camera model (the original, distorted
 // image, as 000 asks); the residual is u'(g) - u(g), the keypoint observed in b (eq. 47).
 // Parameters: c_xy[2] shared by all frames, delta_h of a, delta_h of b.
-// Differentiated numerically: the wall intersection is mapping/RayToWall's closed form.
+// Differentiated numerically: the wall intersection is geometry/RayToWall's closed form.
 class InitialPositionCost {
  public:
   InitialPositionCost(const Camera& camera, const Eigen::Matrix3d& world_from_cam_rotation,

@@ -19,13 +19,14 @@ double UnrobustRms(ceres::Problem* problem, int observations) {
 
 LeastSquaresOutcome SolveLeastSquares(ceres::Problem* problem,
                                       ceres::LinearSolverType linear_solver, int max_iterations,
-                                      int observations) {
+                                      int observations, int num_threads) {
   LeastSquaresOutcome outcome;
   outcome.initial_rms = UnrobustRms(problem, observations);
   ceres::Solver::Options solver;
   solver.linear_solver_type = linear_solver;
   solver.max_num_iterations = max_iterations;
-  solver.num_threads = 1;
+  solver.num_threads = num_threads;
+  solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, problem, &summary);
   outcome.final_rms = UnrobustRms(problem, observations);

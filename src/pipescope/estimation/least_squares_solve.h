@@ -11,11 +11,12 @@ struct LeastSquaresOutcome {
   double final_rms = 0.0;
 };
 
-// Solves `problem` with Ceres' Levenberg-Marquardt on one thread (the pipeline's second thread
-// reads frames). `observations`: the number of two-value (pixel) residual blocks the RMS is
-// taken over, 0 for no RMS.
+// Every nonlinear least-squares problem of the estimators is solved here: Ceres'
+// Levenberg-Marquardt, quiet, on `num_threads` threads (one by default: the pipelines' second
+// thread reads frames or runs the odometry). `observations`: the number of two-value (pixel)
+// residual blocks the RMS is taken over, 0 for no RMS.
 LeastSquaresOutcome SolveLeastSquares(ceres::Problem* problem,
                                       ceres::LinearSolverType linear_solver, int max_iterations,
-                                      int observations);
+                                      int observations, int num_threads = 1);
 
 }  // namespace pipescope

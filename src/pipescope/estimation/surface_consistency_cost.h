@@ -17,7 +17,7 @@ namespace pipescope {
 //   eps_g = n [(h_hat - h_bar)^2 + (rho_hat - rho_bar)^2] + (spread of the estimates),
 // and the spread does not depend on the pose, so the residual is
 //   r = sqrt(n) (h_hat - h_bar, rho_hat - rho_bar).
-// The wall intersection is the closed form of mapping/RayToWall, differentiated numerically
+// The wall intersection is the closed form of geometry/RayToWall, differentiated numerically
 // (central differences): one implementation of the intersection, not a second templated one.
 class SurfaceConsistencyCost {
  public:

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "pipescope/mapping/wall_unrolling.h"
+#include "pipescope/geometry/pipe_cylinder.h"
 
 namespace pipescope {
 

@@ -17,7 +17,7 @@ struct SurfacePoint {
 
 // The scene-point constraint of 000 §5.2 (eq. 35-39): the ray of `bearing_cam` (camera frame)
 // from the camera at `world_from_cam` meets the wall where the positive root kappa of eq. 37
-// puts it (mapping/RayToWall). Unset when the ray runs along the axis or the camera is outside
+// puts it (geometry/RayToWall). Unset when the ray runs along the axis or the camera is outside
 // the pipe.
 std::optional<Eigen::Vector3d> WallPointOfBearing(const Eigen::Isometry3d& world_from_cam,
                                                   const Eigen::Vector3d& bearing_cam,

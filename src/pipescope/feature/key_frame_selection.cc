@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include "pipescope/util/median.h"
 
 namespace pipescope {
 
@@ -10,10 +13,7 @@ double MedianFlow(const std::vector<cv::Point2f>& from, const std::vector<cv::Po
   for (std::size_t i = 0; i < std::min(from.size(), to.size()); ++i) {
     lengths.push_back(std::hypot(to[i].x - from[i].x, to[i].y - from[i].y));
   }
-  if (lengths.empty()) return 0.0;
-  auto middle = lengths.begin() + lengths.size() / 2;
-  std::nth_element(lengths.begin(), middle, lengths.end());
-  return *middle;
+  return UpperMedian(std::move(lengths));
 }
 
 bool EndsKeyFrameSpan(int correspondences, double median_flow_px, int image_extent_px,

@@ -7,7 +7,7 @@ namespace pipescope {
 
 // The region-based Harris detector of 000 §5.1 and 001 §III-A: the image is cut into a grid of
 // equal cells and the strongest corners of each cell are kept, so keypoints cover the whole frame
-// (000 Fig. 9). The defaults are 000's; fisheye/feature_tracker.h sets 001's.
+// (000 Fig. 9). The defaults are 000's; feature/feature_tracker.h sets 001's.
 struct RegionHarrisOptions {
   int grid_rows = 6;  // 000: 6 x 8 grid; 001: 2 x 2 regions
   int grid_cols = 8;

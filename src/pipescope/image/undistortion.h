@@ -22,7 +22,7 @@ cv::Point2d PrincipalPoint(const Camera& camera);
 // An optional resampling of the rectified image line by line along one axis: rectified pixel
 // (x, y) samples the perspective image at (c.x + factors[y] (x - c.x), y) when `along_x` (one
 // factor per row), or at (x, c.y + factors[x] (y - c.y)) otherwise (one per column), c the
-// principal point. Empty: none. pipeline/foreshortening.h uses it to give every line the same
+// principal point. Empty: none. image/foreshortening.h uses it to give every line the same
 // image scale along the pipe.
 struct LineStretch {
   std::vector<double> factors;

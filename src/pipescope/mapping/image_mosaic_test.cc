@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "pipescope/image/undistortion.h"
-#include "pipescope/mapping/mapping_testing.h"
+#include "pipescope/image/unrolling_testing.h"
 
 namespace pipescope {
 namespace {

@@ -4,8 +4,8 @@
 #include <opencv2/core.hpp>
 
 #include "pipescope/camera/camera.h"
+#include "pipescope/image/wall_unrolling.h"
 #include "pipescope/mapping/mean_accumulator.h"
-#include "pipescope/mapping/wall_unrolling.h"
 
 namespace pipescope {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "pipescope/mapping/mapping_testing.h"
+#include "pipescope/image/unrolling_testing.h"
 
 namespace pipescope {
 namespace {

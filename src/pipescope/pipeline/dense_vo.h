@@ -1,136 +1,15 @@
 #pragma once
 
 #include <opencv2/core.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "pipescope/camera/camera.h"
+#include "pipescope/estimation/dense_odometer.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
-#include "pipescope/pipeline/dense_frame_preparation.h"
-#include "pipescope/pipeline/dense_motion_model.h"
-#include "pipescope/pipeline/dense_pair_registration.h"
 
 namespace pipescope {
-
-// Dense monocular visual odometry for straight pipes (000 §4, 003 §2): every frame is
-// registered to the one before, the image motion is turned into metres with the reference scale
-// and integrated from the start pose (000 eq. 18-19).
-struct DenseVoOptions {
-  DenseMethod method = DenseMethod::kHybrid;
-  DenseFrameOptions frames;
-  PairRegistrationOptions registration;
-  // When set, the full-search window is the farthest the wall moves in one frame at this speed
-  // (000 Algorithm 1's x_MAX along the pipe, half of it across), replacing the window of
-  // `registration`.
-  std::optional<double> max_speed_m_s;
-  CameraMount mount;
-  // The planar methods register only this fraction of the prepared frame across the pipe (rows
-  // for a camera whose image x runs along the pipe), centred on the principal point. A
-  // wall-looking camera sees the concave wall nearer towards the image's edges across the pipe
-  // (000 §6.2.3), so those rows move faster than the centre's, and a translational fit over all
-  // rows is biased by the mean of that variation; the bias grows with the square of the band.
-  // 1 = the whole frame, as 000.
-  double registration_band = 0.5;
-  // Frames are registered to a key frame, which is renewed when a frame's shift from it reaches
-  // this fraction of the registered frame's extent along either axis, or a registration fails:
-  // a registration's sub-pixel bias, or an integer search's rounding, accrues once per key
-  // frame, not once per frame. The full search's window is centred on the predicted shift, so
-  // it need not cover the shift from the key. Unset: KeyFrameShiftFraction(method). At most
-  // 0.45, below where phase correlation's shifts wrap. 0: every frame is registered to the one
-  // before, as 000.
-  std::optional<double> key_frame_shift_fraction;
-  // The integer full searches (dense-sad, -ssd, -zncc) lose the fraction their rounding throws
-  // away at every key frame; it is their error. Past key_frame_shift_fraction, such a frame
-  // becomes the key frame only when its rounding residual along the pipe (dense/full_search.h),
-  // added to what the earlier key frames' residuals sum to, is at most
-  // key_frame_max_rounding_px, or once its shift has grown by key_frame_wait_fraction more of
-  // the frame. Carrying the sum over (as error diffusion does) keeps the roundings from adding
-  // up as a random walk over the key frames. Beyond 000; 0.5 px (or a wait of 0) turns it off,
-  // and frame-to-frame registration (key_frame_shift_fraction 0) never waits.
-  double key_frame_max_rounding_px = 0.15;
-  double key_frame_wait_fraction = 0.1;
-  // Gauss-Newton's registrations (dense-lk, dense-hybrid, and dense-unrolled registered by the
-  // hybrid method) carry a small bias that depends on the fraction of a pixel in the shift
-  // (pixel locking). When the speed varies, the key frames' fractions vary and the bias averages
-  // out over them; at constant speed every key frame falls at nearly the same fraction and the
-  // bias adds up (steel-16in at constant speed, dense-lk: between -0.11 and +0.04 % with the
-  // key-frame spacing). With this on, past key_frame_shift_fraction such a frame becomes the key
-  // frame only when the fraction of its shift along the pipe is within
-  // key_frame_fraction_tolerance_px of the next of a sequence of targets spread evenly over the
-  // pixel (the golden ratio's multiples), or once the key-frame wait is over. 0 = off.
-  double key_frame_fraction_tolerance_px = 0.25;
-  // A frame whose registration failed (blur, a dark or saturated frame) gets a predicted pose but
-  // does not become the key frame: the next frame is registered to the same key, so one bad
-  // frame costs only its own pose. The predicted frame becomes the key frame after this many
-  // failures in a row (the key itself may be what no longer registers) or once its predicted
-  // shift is past key_frame_shift_fraction + key_frame_wait_fraction. 1: every failed frame
-  // becomes the key frame, as before session 9.
-  int key_frame_max_failures = 3;
-  // A registration that lands farther than this (prepared pixels, Euclidean) from the
-  // constant-velocity prediction (pipeline/motion_prediction.h) fails, unless the pair before it
-  // failed too: a crawler at 30 frames a second cannot change its image motion that much, and
-  // such a shift is a false minimum, such as a painted marking's straight edge matched along
-  // itself (steel-16in seed 3, dense-ssd: 29 px off the prediction, 43 mm of error). The
-  // simulator's instant turnaround changes it by up to twice the speed:
-  // 9.9 px on steel-16in seed 3, from its ground truth. 0 = off.
-  double max_departure_from_prediction_px = 16.0;
-  // When the dataset gives the pipe's radius, the planar methods' frames are resampled line by
-  // line so that every line of the band moves at the same rate along the pipe, and that rate
-  // converts the axial shift (pipeline/foreshortening.h): the band's lines away from the
-  // principal point see the concave wall nearer and would move more. Off: 000 eq. 19 as written.
-  bool foreshortening_correction = true;
-  // Gaussian smoothing of the registered frames (standard deviation, prepared pixels) for the
-  // Gauss-Newton methods (dense-lk, dense-hybrid, and dense-unrolled registered by the hybrid
-  // method). Off by default: it trades fine texture for what is left of the lighting pattern
-  // after gain correction, which stays put in the image and pulls the shift towards zero
-  // (measured: dense-unrolled -0.08 % -> -0.44 % of the distance at 1 px, docs/dense_vo.md).
-  double presmooth_sigma_px = 0.0;
-  // Local contrast normalisation of the registered frames for the same Gauss-Newton methods
-  // (dense/local_contrast.h; the Gaussian's standard deviation in prepared pixels, 0 = off).
-  // What gain correction leaves of the LEDs' sheen multiplies the texture by an envelope fixed
-  // in the frame, whose gradient pulls Gauss-Newton towards zero motion; dividing by the local
-  // contrast removes it (steel-6in seed 1, dense-lk: -0.046 % -> -0.001 %, floor +0.003 %;
-  // docs/dense_vo.md).
-  double contrast_normalisation_px = 8.0;
-  // A frame with more saturated pixels than this is not registered (000 Fig. 12: highlights
-  // pull the registration to zero motion); its motion is predicted.
-  double max_saturated_fraction = 0.2;
-  // Pixels of the raw frame at or above this 8-bit grey level count as saturated.
-  double saturation_level = 250.0;
-  // 000's image-space mosaic uses frames at least this far apart (appendix).
-  double mosaic_spacing_px = 50.0;
-  bool build_mosaic = true;
-  // dense-unrolled: margin of the unrolled grid inside the camera's footprint, in cells.
-  int unrolled_margin_cells = 2;
-  // dense-unrolled registers the unrolled frames with this method: kPhase (phase correlation,
-  // translation only: travel and roll are both translations there) or kHybrid. Phase by default:
-  // its whitened spectrum gives little weight to what is left of the lighting after gain
-  // correction, which stays put on the unrolled grid and pulls Gauss-Newton towards zero shift.
-  // Measured against the hybrid method on the same frames, the error beyond what the robot's
-  // drift and tilt cause fell from 0.035 % to 0.011 % (steel-6in, 8 seeds) and from 0.041 % to
-  // 0.021 % (steel-16in, 4 seeds; docs/dense_vo.md).
-  DenseMethod unrolled_registration = DenseMethod::kPhase;
-};
-
-// What happened to one frame.
-struct DenseFrameRecord {
-  std::size_t index = 0;
-  double timestamp = 0.0;
-  std::string name;
-  // The image (or unrolled-grid) motion from the previous frame (the difference of the two
-  // frames' registrations to their key frame).
-  cv::Point2d shift;
-  double rotation_rad = 0.0;  // phase only
-  double correlation = 0.0;   // overlap ZNCC after registration
-  bool still = false;
-  bool integer_only = false;  // dense-hybrid kept the whole-pixel shift (PairMotion)
-  bool key_frame = false;     // later frames were registered to this one
-  // Why the registration failed and the motion was predicted at constant velocity; empty when
-  // it did not (and for the first frame).
-  std::string failure;
-};
 
 struct DenseVoResult {
   Trajectory trajectory;  // world_from_cam of every frame, pipe frame (axis Z)
@@ -144,53 +23,19 @@ struct DenseVoResult {
   double mosaic_pixel_m = 0.0;  // dense-unrolled: the unrolled mosaic's cell size
   // dense-unrolled: (h, s) of the mosaic's cell (0, 0), metres.
   cv::Point2d mosaic_origin_m;
-  // Wall-clock seconds of the frame loop, and of its stages: reading and decoding the frames,
-  // preparing them (gain, undistortion or unrolling, downsampling), registering the pairs.
+  // Wall-clock seconds of the frame loop, and its stages: "reading" (decoding the frames),
+  // "preparing" (gain, undistortion or unrolling, downsampling), "registering" the pairs.
   double registration_seconds = 0.0;
-  double reading_seconds = 0.0;
-  double preparing_seconds = 0.0;
-  double registering_seconds = 0.0;
+  StageTimes stage_times;
   // CPU seconds of the frame loop's own thread (frames are decoded on another): the cost of
   // preparing and registering on one core, unaffected by a busy machine's waits.
   double loop_cpu_seconds = 0.0;
 };
 
-// The default key-frame spacing of a method, as a fraction of the registered frame (measured on
-// the benchmark runs of docs/dense_vo.md): 0.4 for the integer full searches, whose error is one
-// rounding per key frame (steel-6in dense-sad: 0.119 % at about 0.06, 0.023 % at 0.4); 0.1 for
-// the sub-pixel methods, whose precision falls with the overlap (steel-16in phase: 3.0 % at 0.4,
-// dense-hybrid 0.023 % against 0.003 %).
-double KeyFrameShiftFraction(DenseMethod method);
-
-// Whether a frame registered to the key frame without failure, with `motion` from it, becomes
-// the next key frame: its shift has reached shift_fraction of `frame` along either axis and,
-// for an integer search, its rounding residual along the pipe plus `carried_rounding_px` (the
-// sum of the earlier key frames' residuals) is small enough, or the wait is over
-// (DenseVoOptions' key_frame_max_rounding_px and key_frame_wait_fraction); a pair whose hybrid
-// refinement was not used (PairMotion::integer_only) waits likewise. A carried sum beyond what
-// one residual (at most 0.5 px) can cancel is accepted as reduced by key_frame_max_rounding_px.
-// For a sub-pixel method, with `fraction_target` set (the odometry sets it for the Gauss-Newton
-// methods), the fraction of its shift along the pipe must also be within
-// key_frame_fraction_tolerance_px of the target (DenseVoOptions).
-bool KeyFrameIsDue(const PairMotion& motion, double shift_fraction, cv::Size frame,
-                   bool along_image_x, const DenseVoOptions& options,
-                   double carried_rounding_px = 0.0,
-                   std::optional<double> fraction_target = std::nullopt);
-
-// The fraction of a pixel the n-th key frame of a Gauss-Newton method aims at: n times the golden
-// ratio's fraction, modulo 1, spread evenly over [0, 1) for any count of key frames.
-double KeyFrameFractionTarget(int n);
-
-// Whether a frame whose registration failed, with its predicted `motion` from the key frame,
-// becomes the next key frame (DenseVoOptions::key_frame_max_failures): after that many failures
-// in a row on the current key, or once the predicted shift is past the key-frame wait.
-bool FailedFrameBecomesKey(const PairMotion& motion, int failures_in_row, double shift_fraction,
-                           cv::Size frame, const DenseVoOptions& options);
-
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is
 // required, and the pipe radius for dense-unrolled; the dataset's gain mask is applied when it
 // names one. Throws InputError naming the missing key or bad option.
 DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
-                         const DenseVoOptions& options);
+                         const DenseOdometerOptions& options);
 
 }  // namespace pipescope

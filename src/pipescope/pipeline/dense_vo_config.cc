@@ -1,181 +1,114 @@
 #include "pipescope/pipeline/dense_vo_config.h"
 
-#include <cmath>
 #include <numbers>
-#include <set>
-#include <string>
-
-#include "pipescope/io/yaml_helpers.h"
-#include "pipescope/util/error.h"
 
 namespace pipescope {
-namespace {
 
-const std::set<std::string> kKeys = {"downsample",
-                                     "search_x_px",
-                                     "search_y_px",
-                                     "max_speed_m_s",
-                                     "pyramid_levels",
-                                     "min_correlation",
-                                     "max_saturated_fraction",
-                                     "phase_rotation",
-                                     "max_rotation_deg",
-                                     "axis_along_pipe",
-                                     "mosaic",
-                                     "mosaic_spacing_px",
-                                     "registration_band",
-                                     "foreshortening_correction",
-                                     "key_frame_shift_fraction",
-                                     "key_frame_max_rounding_px",
-                                     "key_frame_wait_fraction",
-                                     "key_frame_max_failures",
-                                     "key_frame_fraction_tolerance_px",
-                                     "max_departure_from_prediction_px",
-                                     "presmooth_sigma_px",
-                                     "contrast_normalisation_px",
-                                     "unrolled_registration"};
-
-void RequireRange(const std::filesystem::path& file, const std::string& key, double value,
-                  double low, double high) {
-  if (!(value >= low && value <= high)) {
-    throw InputError(file.string() + ": key '" + key + "' must be in [" + std::to_string(low) +
-                     ", " + std::to_string(high) + "], got " + std::to_string(value));
-  }
-}
-
-}  // namespace
-
-void ApplyDenseVoConfig(const std::filesystem::path& path, DenseVoOptions* options) {
-  const YAML::Node root = LoadYamlFile(path);
-  RequireKnownKeys(root, path, kKeys);
-  if (auto value = OptionalYamlValue<int>(root, "downsample", path)) {
-    RequireRange(path, "downsample", *value, 1, 16);
-    options->frames.downsample = *value;
-  }
-  FullSearchOptions& search = options->registration.full_search;
-  if (auto value = OptionalYamlValue<int>(root, "search_x_px", path)) {
-    RequireRange(path, "search_x_px", *value, 1, 100000);
-    search.max_shift_x_px = *value;
-  }
-  if (auto value = OptionalYamlValue<int>(root, "search_y_px", path)) {
-    RequireRange(path, "search_y_px", *value, 1, 100000);
-    search.max_shift_y_px = *value;
-  }
-  if (auto value = OptionalYamlValue<int>(root, "pyramid_levels", path)) {
-    RequireRange(path, "pyramid_levels", *value, 0, 6);
-    search.pyramid_levels = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "min_correlation", path)) {
-    RequireRange(path, "min_correlation", *value, -1.0, 1.0);
-    options->registration.min_correlation = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "max_saturated_fraction", path)) {
-    RequireRange(path, "max_saturated_fraction", *value, 0.0, 1.0);
-    options->max_saturated_fraction = *value;
-  }
-  if (auto value = OptionalYamlValue<bool>(root, "phase_rotation", path)) {
-    options->registration.phase.estimate_rotation = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "max_rotation_deg", path)) {
-    RequireRange(path, "max_rotation_deg", *value, 0.5, 45.0);
-    options->registration.phase.max_rotation_rad = *value * std::numbers::pi / 180.0;
-  }
-  if (auto value = OptionalYamlValue<std::string>(root, "axis_along_pipe", path)) {
-    if (*value != "x" && *value != "-x" && *value != "y" && *value != "-y") {
-      throw InputError(path.string() + ": key 'axis_along_pipe' must be x, -x, y or -y, got '" +
-                       *value + "'");
-    }
-    options->mount.axis_along_pipe = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "registration_band", path)) {
-    RequireRange(path, "registration_band", *value, 0.05, 1.0);
-    options->registration_band = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "key_frame_shift_fraction", path)) {
-    RequireRange(path, "key_frame_shift_fraction", *value, 0.0, 0.45);
-    options->key_frame_shift_fraction = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "key_frame_max_rounding_px", path)) {
-    RequireRange(path, "key_frame_max_rounding_px", *value, 0.0, 0.5);
-    options->key_frame_max_rounding_px = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "key_frame_wait_fraction", path)) {
-    RequireRange(path, "key_frame_wait_fraction", *value, 0.0, 0.2);
-    options->key_frame_wait_fraction = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "key_frame_fraction_tolerance_px", path)) {
-    RequireRange(path, "key_frame_fraction_tolerance_px", *value, 0.0, 0.5);
-    options->key_frame_fraction_tolerance_px = *value;
-  }
-  if (auto value = OptionalYamlValue<int>(root, "key_frame_max_failures", path)) {
-    RequireRange(path, "key_frame_max_failures", *value, 1, 1000);
-    options->key_frame_max_failures = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "max_departure_from_prediction_px", path)) {
-    RequireRange(path, "max_departure_from_prediction_px", *value, 0.0, 1e4);
-    options->max_departure_from_prediction_px = *value;
-  }
-  if (auto value = OptionalYamlValue<bool>(root, "foreshortening_correction", path)) {
-    options->foreshortening_correction = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "presmooth_sigma_px", path)) {
-    RequireRange(path, "presmooth_sigma_px", *value, 0.0, 10.0);
-    options->presmooth_sigma_px = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "contrast_normalisation_px", path)) {
-    RequireRange(path, "contrast_normalisation_px", *value, 0.0, 50.0);
-    options->contrast_normalisation_px = *value;
-  }
-  if (auto value = OptionalYamlValue<std::string>(root, "unrolled_registration", path)) {
-    if (*value != "phase" && *value != "hybrid") {
-      throw InputError(path.string() +
-                       ": key 'unrolled_registration' must be phase or hybrid, got '" + *value +
-                       "'");
-    }
-    options->unrolled_registration = *value == "phase" ? DenseMethod::kPhase : DenseMethod::kHybrid;
-  }
-  if (auto value = OptionalYamlValue<bool>(root, "mosaic", path)) options->build_mosaic = *value;
-  if (auto value = OptionalYamlValue<double>(root, "mosaic_spacing_px", path)) {
-    RequireRange(path, "mosaic_spacing_px", *value, 0.0, 1e6);
-    options->mosaic_spacing_px = *value;
-  }
-  if (auto value = OptionalYamlValue<double>(root, "max_speed_m_s", path)) {
-    RequireRange(path, "max_speed_m_s", *value, 1e-6, 100.0);
-    options->max_speed_m_s = *value;
-  }
-}
-
-nlohmann::json DenseVoOptionsToJson(const DenseVoOptions& options) {
-  const FullSearchOptions& search = options.registration.full_search;
-  return {
-      {"method", DenseMethodName(options.method)},
-      {"downsample", options.frames.downsample},
-      {"search_x_px", search.max_shift_x_px},
-      {"search_y_px", search.max_shift_y_px},
-      {"pyramid_levels", search.pyramid_levels},
-      {"min_correlation", options.registration.min_correlation},
-      {"max_saturated_fraction", options.max_saturated_fraction},
-      {"phase_rotation", options.registration.phase.estimate_rotation},
-      {"max_rotation_deg", options.registration.phase.max_rotation_rad * 180.0 / std::numbers::pi},
-      {"axis_along_pipe", options.mount.axis_along_pipe},
-      {"registration_band", options.registration_band},
-      {"foreshortening_correction", options.foreshortening_correction},
-      {"key_frame_shift_fraction",
-       options.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(options.method))},
-      {"key_frame_max_rounding_px", options.key_frame_max_rounding_px},
-      {"key_frame_wait_fraction", options.key_frame_wait_fraction},
-      {"key_frame_fraction_tolerance_px", options.key_frame_fraction_tolerance_px},
-      {"key_frame_max_failures", options.key_frame_max_failures},
-      {"max_departure_from_prediction_px", options.max_departure_from_prediction_px},
-      {"presmooth_sigma_px", options.presmooth_sigma_px},
-      {"contrast_normalisation_px", options.contrast_normalisation_px},
-      {"unrolled_registration",
-       options.unrolled_registration == DenseMethod::kPhase ? "phase" : "hybrid"},
-      {"mosaic", options.build_mosaic},
-      {"mosaic_spacing_px", options.mosaic_spacing_px},
-      {"max_speed_m_s",
-       options.max_speed_m_s ? nlohmann::json(*options.max_speed_m_s) : nlohmann::json(nullptr)},
-  };
+const OptionTable<DenseOdometerOptions>& DenseVoOptionTable() {
+  using O = DenseOdometerOptions;
+  static const OptionTable<O> table({
+      Number<O>(
+          "downsample", [](O& o) -> int& { return o.frames.downsample; }, 1, 16, "",
+          "integer factor before registration (000: 4)"),
+      Number<O>(
+          "search_x_px", [](O& o) -> int& { return o.registration.full_search.max_shift_x_px; }, 1,
+          100000, "px", "full-search window along image x, at the registered resolution"),
+      Number<O>(
+          "search_y_px", [](O& o) -> int& { return o.registration.full_search.max_shift_y_px; }, 1,
+          100000, "px", "full-search window along image y"),
+      Number<O>(
+          "pyramid_levels", [](O& o) -> int& { return o.registration.full_search.pyramid_levels; },
+          0, 6, "", "coarse-to-fine full search (0 = exhaustive, as 000)"),
+      Number<O>(
+          "min_correlation", [](O& o) -> double& { return o.registration.min_correlation; }, -1.0,
+          1.0, "", "overlap ZNCC below which a pair counts as failed"),
+      Number<O>(
+          "max_saturated_fraction", [](O& o) -> double& { return o.max_saturated_fraction; }, 0.0,
+          1.0, "", "frames with more saturated pixels are not registered"),
+      Flag<O>(
+          "phase_rotation", [](O& o) -> bool& { return o.registration.phase.estimate_rotation; },
+          "phase: search the rotation too (003 eq. 7)"),
+      ScaledNumber<O>(
+          "max_rotation_deg", [](O& o) -> double& { return o.registration.phase.max_rotation_rad; },
+          0.5, 45.0, "deg", "phase: the rotation search's range", std::numbers::pi / 180.0),
+      Choice<O>(
+          "axis_along_pipe", [](O& o) -> std::string& { return o.mount.axis_along_pipe; },
+          {"x", "-x", "y", "-y"}, "the camera axis that points down the pipe"),
+      Number<O>(
+          "registration_band", [](O& o) -> double& { return o.registration_band; }, 0.05, 1.0, "",
+          "planar methods: fraction of the frame across the pipe registered"),
+      Flag<O>(
+          "foreshortening_correction", [](O& o) -> bool& { return o.foreshortening_correction; },
+          "planar methods: equalise the band's lines' axial rate (needs the radius)"),
+      Custom<O>(
+          "key_frame_shift_fraction", "[0, 0.45]", "",
+          "key frames renewed at this fraction of the frame (0 = frame to frame); default by "
+          "method: 0.4 integer searches, 0.1 sub-pixel methods",
+          [](const YAML::Node& node, const std::string& where, O* o) {
+            const double value = ReadOptionValue<double>(node, where);
+            RequireOptionRange(value, 0.0, 0.45, where);
+            o->key_frame_shift_fraction = value;
+          },
+          [](const O& o) {
+            return nlohmann::json(
+                o.key_frame_shift_fraction.value_or(KeyFrameShiftFraction(o.method)));
+          }),
+      Number<O>(
+          "key_frame_max_rounding_px", [](O& o) -> double& { return o.key_frame_max_rounding_px; },
+          0.0, 0.5, "px", "integer searches: rounding left (carried) at a key frame"),
+      Number<O>(
+          "key_frame_wait_fraction", [](O& o) -> double& { return o.key_frame_wait_fraction; }, 0.0,
+          0.2, "", "how much further a key frame may wait for its rounding or fraction"),
+      Number<O>(
+          "key_frame_fraction_tolerance_px",
+          [](O& o) -> double& { return o.key_frame_fraction_tolerance_px; }, 0.0, 0.5, "px",
+          "Gauss-Newton methods: key frames' spread fractions (0 off)"),
+      Number<O>(
+          "key_frame_max_failures", [](O& o) -> int& { return o.key_frame_max_failures; }, 1, 1000,
+          "", "failed frames in a row before the predicted one becomes the key"),
+      Number<O>(
+          "max_departure_from_prediction_px",
+          [](O& o) -> double& { return o.max_departure_from_prediction_px; }, 0.0, 1e4, "px",
+          "a shift this far from the constant-velocity prediction fails (0 off)"),
+      Number<O>(
+          "presmooth_sigma_px", [](O& o) -> double& { return o.presmooth_sigma_px; }, 0.0, 10.0,
+          "px", "Gauss-Newton methods: Gaussian smoothing before registration"),
+      Number<O>(
+          "contrast_normalisation_px", [](O& o) -> double& { return o.contrast_normalisation_px; },
+          0.0, 50.0, "px", "Gauss-Newton methods: local contrast normalisation's sigma (0 off)"),
+      Custom<O>(
+          "unrolled_registration", "phase | hybrid", "",
+          "dense-unrolled: how the unrolled frames are registered",
+          [](const YAML::Node& node, const std::string& where, O* o) {
+            const std::string value = ReadOptionValue<std::string>(node, where);
+            if (value != "phase" && value != "hybrid") {
+              throw InputError(where + " must be phase or hybrid, got '" + value + "'");
+            }
+            o->unrolled_registration =
+                value == "phase" ? DenseMethod::kPhase : DenseMethod::kHybrid;
+          },
+          [](const O& o) {
+            return nlohmann::json(o.unrolled_registration == DenseMethod::kPhase ? "phase"
+                                                                                 : "hybrid");
+          }),
+      Flag<O>(
+          "mosaic", [](O& o) -> bool& { return o.build_mosaic; }, "write mosaic.png"),
+      Number<O>(
+          "mosaic_spacing_px", [](O& o) -> double& { return o.mosaic_spacing_px; }, 0.0, 1e6, "px",
+          "frames used in the mosaic are at least this far apart"),
+      Custom<O>(
+          "max_speed_m_s", "[1e-06, 100] or null", "m/s",
+          "bounds the full-search window by the speed and the frame rate (000 Algorithm 1)",
+          [](const YAML::Node& node, const std::string& where, O* o) {
+            const double value = ReadOptionValue<double>(node, where);
+            RequireOptionRange(value, 1e-6, 100.0, where);
+            o->max_speed_m_s = value;
+          },
+          [](const O& o) {
+            return o.max_speed_m_s ? nlohmann::json(*o.max_speed_m_s) : nlohmann::json(nullptr);
+          }),
+  });
+  return table;
 }
 
 }  // namespace pipescope

@@ -50,15 +50,15 @@ std::filesystem::path ShortSteelRun() {
   return path;
 }
 
-DenseVoOptions HalfResolutionOptions(DenseMethod method) {
-  DenseVoOptions options;
+DenseOdometerOptions HalfResolutionOptions(DenseMethod method) {
+  DenseOdometerOptions options;
   options.method = method;
   options.frames.downsample = 2;
   options.build_mosaic = false;
   return options;
 }
 
-Metrics RunAndEvaluate(const std::filesystem::path& dataset, const DenseVoOptions& options,
+Metrics RunAndEvaluate(const std::filesystem::path& dataset, const DenseOdometerOptions& options,
                        DenseVoResult* result_out = nullptr) {
   const DatasetManifest manifest = OpenDataset(dataset);
   const Camera camera = ReadCamera(manifest.camera_path);
@@ -82,7 +82,7 @@ class DenseVoAccuracy : public ::testing::TestWithParam<AccuracyCase> {};
 // the sub-pixel methods do not.
 TEST_P(DenseVoAccuracy, ShortRunStaysWithinBound) {
   DenseVoResult result;
-  DenseVoOptions options = HalfResolutionOptions(GetParam().method);
+  DenseOdometerOptions options = HalfResolutionOptions(GetParam().method);
   options.unrolled_registration = GetParam().unrolled_registration;
   const Metrics metrics = RunAndEvaluate(ShortSteelRun(), options, &result);
   ASSERT_EQ(result.trajectory.size(), 90u);
@@ -118,7 +118,7 @@ INSTANTIATE_TEST_SUITE_P(
 // Registering to key frames instead of the frame before cuts the rounding that integer full
 // search accumulates (one rounding per key frame instead of per frame).
 TEST(DenseVo, KeyFramesCutTheIntegerSearchesRounding) {
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kSad);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kSad);
   options.key_frame_shift_fraction = 0.0;
   const Metrics consecutive = RunAndEvaluate(ShortSteelRun(), options);
   options.key_frame_shift_fraction = 0.4;
@@ -130,7 +130,7 @@ TEST(DenseVo, KeyFramesCutTheIntegerSearchesRounding) {
 }
 
 TEST(DenseVo, IntegerSearchWaitsForALowRoundingKeyFrame) {
-  DenseVoOptions options;  // 0.15 px, a wait of 0.1 of the frame
+  DenseOdometerOptions options;  // 0.15 px, a wait of 0.1 of the frame
   const cv::Size frame(200, 100);
   PairMotion motion;
   motion.shift = {79.0, 3.0};  // short of 0.4 of the width
@@ -169,7 +169,7 @@ TEST(DenseVo, SubPixelKeyFrameFractionsSpreadOverThePixel) {
     targets.push_back(targets.front() + 1.0);
     for (std::size_t k = 1; k < targets.size(); ++k) EXPECT_LT(targets[k] - targets[k - 1], 0.25);
   }
-  DenseVoOptions options;  // a tolerance of 0.25 px
+  DenseOdometerOptions options;  // a tolerance of 0.25 px
   const cv::Size frame(200, 100);
   PairMotion motion;  // a sub-pixel method: no rounding residual
   motion.shift = {20.7, 0.4};
@@ -191,7 +191,7 @@ TEST(DenseVo, SubPixelKeyFrameFractionsSpreadOverThePixel) {
 }
 
 TEST(DenseVo, IntegerSearchKeyFrameCancelsTheCarriedRounding) {
-  DenseVoOptions options;  // 0.15 px
+  DenseOdometerOptions options;  // 0.15 px
   const cv::Size frame(200, 100);
   PairMotion motion;
   motion.shift = {80.0, 3.0};
@@ -241,7 +241,7 @@ TEST(DenseVo, RoundingWaitKeepsTheKeyFramesFromWalking) {
   const Trajectory truth = ReadTumTrajectory(manifest.groundtruth_path);
   std::vector<double> without, with;
   for (const DenseMethod method : {DenseMethod::kSad, DenseMethod::kSsd, DenseMethod::kZncc}) {
-    DenseVoOptions options = HalfResolutionOptions(method);
+    DenseOdometerOptions options = HalfResolutionOptions(method);
     options.key_frame_shift_fraction = 0.1;  // many key frames on the short run
     options.key_frame_wait_fraction = 0.0;
     const DenseVoResult plain = RunDenseVo(manifest, camera, options);
@@ -301,7 +301,7 @@ TEST(DenseVo, OneBadFrameCostsOnlyItsOwnPose) {
   ASSERT_TRUE(cv::imwrite(images[kBad].string(), cv::Mat::zeros(frame.size(), frame.type())));
 
   const Camera camera = ReadCamera(manifest.camera_path);
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
   const DenseVoResult clean = RunDenseVo(OpenDataset(ShortSteelRun()), camera, options);
   const DenseVoResult bad = RunDenseVo(manifest, camera, options);
   options.key_frame_max_failures = 1;  // every failed frame becomes the key frame
@@ -334,7 +334,7 @@ TEST(DenseVo, AShiftFarFromThePredictionFails) {
                              std::filesystem::copy_options::overwrite_existing);
 
   const Camera camera = ReadCamera(manifest.camera_path);
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
   const DenseVoResult clean = RunDenseVo(OpenDataset(ShortSteelRun()), camera, options);
   const DenseVoResult gated = RunDenseVo(manifest, camera, options);
   options.max_departure_from_prediction_px = 0.0;  // off
@@ -359,7 +359,7 @@ TEST(DenseVo, AShiftFarFromThePredictionFails) {
 TEST(DenseVo, HybridMarksPairsKeptAtTheWholePixel) {
   const DatasetManifest manifest = OpenDataset(ShortSteelRun());
   const Camera camera = ReadCamera(manifest.camera_path);
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
   const auto count_integer_only = [](const DenseVoResult& result) {
     int count = 0;
     for (const DenseFrameRecord& frame : result.frames) count += frame.integer_only ? 1 : 0;
@@ -392,7 +392,7 @@ TEST(DenseVo, PhaseRotationFollowsATurningCamera) {
   const double truth_deg = TurnAboutOpticalAxisDeg(ReadTumTrajectory(manifest.groundtruth_path));
   ASSERT_GT(std::abs(truth_deg), 0.5) << "the simulated turn is too small to test";
 
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kPhase);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kPhase);
   const DenseVoResult fixed = RunDenseVo(manifest, ReadCamera(manifest.camera_path), options);
   EXPECT_EQ(TurnAboutOpticalAxisDeg(fixed.trajectory), 0.0);
   options.registration.phase.estimate_rotation = true;
@@ -404,7 +404,7 @@ TEST(DenseVo, PhaseRotationFollowsATurningCamera) {
 }
 
 TEST(DenseVo, MosaicsAreBuilt) {
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
   options.build_mosaic = true;
   const DatasetManifest manifest = OpenDataset(ShortSteelRun());
   const Camera camera = ReadCamera(manifest.camera_path);
@@ -435,7 +435,7 @@ double MeanLaplacian(const cv::Mat& mosaic, int top, int bottom) {
 // Smoothing before registration (presmooth_sigma_px) is for the registration only: the image
 // mosaic keeps the band's detail, as much of it as the rows outside the band keep.
 TEST(DenseVo, PresmoothingLeavesTheMosaicSharp) {
-  DenseVoOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kHybrid);
   options.build_mosaic = true;
   const DatasetManifest manifest = OpenDataset(ShortSteelRun());
   const Camera camera = ReadCamera(manifest.camera_path);

@@ -1,184 +1,144 @@
 #include "pipescope/pipeline/sparse_vo_config.h"
 
-#include <set>
-#include <string>
-
-#include "pipescope/io/yaml_helpers.h"
-#include "pipescope/util/error.h"
-
 namespace pipescope {
-namespace {
 
-const std::set<std::string> kKeys = {"grid_rows",
-                                     "grid_cols",
-                                     "per_cell",
-                                     "nms_window_px",
-                                     "sigma_window_px",
-                                     "sigma_derivative_px",
-                                     "harris_k",
-                                     "sift_keypoint_size_px",
-                                     "max_ratio",
-                                     "mutual_check",
-                                     "hold_measured_start",
-                                     "ransac_threshold_px",
-                                     "key_frame_min_correspondences",
-                                     "key_frame_max_flow_fraction",
-                                     "initial_key_frames",
-                                     "optimise_initial_position",
-                                     "refine",
-                                     "refine_every",
-                                     "refine_passes",
-                                     "refine_at_end",
-                                     "huber_m",
-                                     "reprojection_loss_px",
-                                     "min_correspondences",
-                                     "axis_along_pipe",
-                                     "wall_distance_m",
-                                     "max_saturated_fraction",
-                                     "mosaic",
-                                     "mosaic_mm_per_px",
-                                     "mosaic_spacing_cells",
-                                     "window_adjustment",
-                                     "window_size",
-                                     "window_every",
-                                     "window_fixed",
-                                     "window_iterations",
-                                     "window_cross_section_sigma_m",
-                                     "cross_section_anchor_sigma_m",
-                                     "revisit",
-                                     "revisit_max_offset_fraction",
-                                     "revisit_min_inliers",
-                                     "pipelined",
-                                     "global_scale"};
-
-class ConfigReader {
- public:
-  ConfigReader(const std::filesystem::path& path, const YAML::Node& root)
-      : path_(path), root_(root) {}
-
-  template <typename T>
-  void Read(const std::string& key, double low, double high, T* target) const {
-    if (auto value = OptionalYamlValue<T>(root_, key, path_)) {
-      if (!(static_cast<double>(*value) >= low && static_cast<double>(*value) <= high)) {
-        throw InputError(path_.string() + ": key '" + key + "' must be in [" + std::to_string(low) +
-                         ", " + std::to_string(high) + "], got " +
-                         std::to_string(static_cast<double>(*value)));
-      }
-      *target = *value;
-    }
-  }
-  void ReadBool(const std::string& key, bool* target) const {
-    if (auto value = OptionalYamlValue<bool>(root_, key, path_)) *target = *value;
-  }
-
- private:
-  const std::filesystem::path& path_;
-  const YAML::Node& root_;
-};
-
-}  // namespace
-
-void ApplySparseVoConfig(const std::filesystem::path& path, SparseVoOptions* options) {
-  const YAML::Node root = LoadYamlFile(path);
-  RequireKnownKeys(root, path, kKeys);
-  const ConfigReader r(path, root);
-  r.Read("grid_rows", 1, 100, &options->harris.grid_rows);
-  r.Read("grid_cols", 1, 100, &options->harris.grid_cols);
-  r.Read("per_cell", 1, 10000, &options->harris.per_cell);
-  r.Read("nms_window_px", 3, 51, &options->harris.nms_window_px);
-  r.Read("sigma_window_px", 0.3, 20.0, &options->harris.sigma_window_px);
-  r.Read("sigma_derivative_px", 0.3, 20.0, &options->harris.sigma_derivative_px);
-  r.Read("harris_k", 0.0, 0.25, &options->harris.k);
-  r.Read("sift_keypoint_size_px", 1.0, 100.0, &options->sift.keypoint_size_px);
-  r.Read("max_ratio", 0.1, 1.0, &options->matching.max_ratio);
-  r.ReadBool("mutual_check", &options->matching.mutual_check);
-  r.Read("ransac_threshold_px", 0.05, 50.0, &options->ransac.threshold_px);
-  r.Read("key_frame_min_correspondences", 6, 100000, &options->key_frames.min_correspondences);
-  r.Read("key_frame_max_flow_fraction", 0.001, 1.0, &options->key_frames.max_median_flow_fraction);
-  r.Read("initial_key_frames", 2, 1000, &options->initial_key_frames);
-  r.ReadBool("optimise_initial_position", &options->optimise_initial_position);
-  r.ReadBool("refine", &options->refine);
-  r.Read("refine_every", 1, 100000, &options->refine_every);
-  r.Read("refine_passes", 1, 100, &options->refine_passes);
-  r.ReadBool("refine_at_end", &options->refine_at_end);
-  double huber = options->axial_step.huber_m;
-  r.Read("huber_m", 0.0, 1.0, &huber);
-  options->axial_step.huber_m = huber;
-  options->refinement.huber_m = huber;
-  r.Read("reprojection_loss_px", 0.0, 1000.0, &options->initial_position.robust_loss_px);
-  r.ReadBool("window_adjustment", &options->window_adjustment);
-  r.ReadBool("hold_measured_start", &options->window.hold_first_cross_section);
-  r.ReadBool("pipelined", &options->pipelined);
-  r.ReadBool("global_scale", &options->global_scale);
-  r.ReadBool("revisit", &options->revisit);
-  r.Read("revisit_max_offset_fraction", 0.0, 10.0, &options->revisit_max_offset_fraction);
-  r.Read("revisit_min_inliers", 6, 100000, &options->revisit_min_inliers);
-  r.Read("window_size", 2, 10000, &options->window_size);
-  r.Read("window_every", 1, 10000, &options->window_every);
-  r.Read("window_fixed", 0, 10000, &options->window_fixed);
-  r.Read("window_iterations", 1, 1000, &options->window.max_iterations);
-  r.Read("window_cross_section_sigma_m", 0.0, 1.0, &options->window.cross_section_step_sigma_m);
-  r.Read("cross_section_anchor_sigma_m", 0.0, 1.0, &options->window.cross_section_anchor_sigma_m);
-  options->window.robust_loss_px = options->initial_position.robust_loss_px;
-  r.Read("min_correspondences", 6, 100000, &options->min_correspondences);
-  if (auto axis = OptionalYamlValue<std::string>(root, "axis_along_pipe", path)) {
-    if (*axis != "x" && *axis != "-x" && *axis != "y" && *axis != "-y") {
-      throw InputError(path.string() + ": key 'axis_along_pipe' must be x, -x, y or -y, got '" +
-                       *axis + "'");
-    }
-    options->mount.axis_along_pipe = *axis;
-  }
-  r.Read("wall_distance_m", 0.0, 100.0, &options->wall_distance_m);
-  r.Read("max_saturated_fraction", 0.0, 1.0, &options->max_saturated_fraction);
-  r.ReadBool("mosaic", &options->build_mosaic);
-  double mm_per_px = options->mosaic_pixel_m * 1000.0;
-  r.Read("mosaic_mm_per_px", 0.0, 1000.0, &mm_per_px);
-  options->mosaic_pixel_m = mm_per_px / 1000.0;
-  r.Read("mosaic_spacing_cells", 0.0, 1e6, &options->mosaic_spacing_cells);
-}
-
-nlohmann::json SparseVoOptionsToJson(const SparseVoOptions& o) {
-  return {{"grid_rows", o.harris.grid_rows},
-          {"grid_cols", o.harris.grid_cols},
-          {"per_cell", o.harris.per_cell},
-          {"nms_window_px", o.harris.nms_window_px},
-          {"sigma_window_px", o.harris.sigma_window_px},
-          {"sigma_derivative_px", o.harris.sigma_derivative_px},
-          {"harris_k", o.harris.k},
-          {"sift_keypoint_size_px", o.sift.keypoint_size_px},
-          {"max_ratio", o.matching.max_ratio},
-          {"mutual_check", o.matching.mutual_check},
-          {"ransac_threshold_px", o.ransac.threshold_px},
-          {"key_frame_min_correspondences", o.key_frames.min_correspondences},
-          {"key_frame_max_flow_fraction", o.key_frames.max_median_flow_fraction},
-          {"initial_key_frames", o.initial_key_frames},
-          {"optimise_initial_position", o.optimise_initial_position},
-          {"refine", o.refine},
-          {"refine_every", o.refine_every},
-          {"refine_passes", o.refine_passes},
-          {"refine_at_end", o.refine_at_end},
-          {"huber_m", o.axial_step.huber_m},
-          {"reprojection_loss_px", o.initial_position.robust_loss_px},
-          {"window_adjustment", o.window_adjustment},
-          {"hold_measured_start", o.window.hold_first_cross_section},
-          {"pipelined", o.pipelined},
-          {"global_scale", o.global_scale},
-          {"revisit", o.revisit},
-          {"revisit_max_offset_fraction", o.revisit_max_offset_fraction},
-          {"revisit_min_inliers", o.revisit_min_inliers},
-          {"window_size", o.window_size},
-          {"window_every", o.window_every},
-          {"window_fixed", o.window_fixed},
-          {"window_iterations", o.window.max_iterations},
-          {"window_cross_section_sigma_m", o.window.cross_section_step_sigma_m},
-          {"cross_section_anchor_sigma_m", o.window.cross_section_anchor_sigma_m},
-          {"min_correspondences", o.min_correspondences},
-          {"axis_along_pipe", o.mount.axis_along_pipe},
-          {"wall_distance_m", o.wall_distance_m},
-          {"max_saturated_fraction", o.max_saturated_fraction},
-          {"mosaic", o.build_mosaic},
-          {"mosaic_mm_per_px", 1000.0 * o.mosaic_pixel_m},
-          {"mosaic_spacing_cells", o.mosaic_spacing_cells}};
+const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
+  using O = SparseVoOptions;
+  static const OptionTable<O> table({
+      Number<O>(
+          "grid_rows", [](O& o) -> int& { return o.features.harris.grid_rows; }, 1, 100, "",
+          "region Harris: rows of regions (000 §5.1)"),
+      Number<O>(
+          "grid_cols", [](O& o) -> int& { return o.features.harris.grid_cols; }, 1, 100, "",
+          "region Harris: columns of regions"),
+      Number<O>(
+          "per_cell", [](O& o) -> int& { return o.features.harris.per_cell; }, 1, 10000, "",
+          "region Harris: strongest corners kept per region"),
+      Number<O>(
+          "nms_window_px", [](O& o) -> int& { return o.features.harris.nms_window_px; }, 3, 51,
+          "px", "region Harris: non-maximum suppression window"),
+      Number<O>(
+          "sigma_window_px", [](O& o) -> double& { return o.features.harris.sigma_window_px; }, 0.3,
+          20.0, "px", "region Harris: integration scale (000: 3; 2 measured better)"),
+      Number<O>(
+          "sigma_derivative_px",
+          [](O& o) -> double& { return o.features.harris.sigma_derivative_px; }, 0.3, 20.0, "px",
+          "region Harris: derivative scale"),
+      Number<O>(
+          "harris_k", [](O& o) -> double& { return o.features.harris.k; }, 0.0, 0.25, "",
+          "region Harris: k of det - k trace^2"),
+      Number<O>(
+          "sift_keypoint_size_px", [](O& o) -> float& { return o.features.sift.keypoint_size_px; },
+          1.0, 100.0, "px", "SIFT patch scale"),
+      Number<O>(
+          "max_ratio", [](O& o) -> double& { return o.features.matching.max_ratio; }, 0.1, 1.0, "",
+          "descriptor matching: nearest / second-nearest distance ratio"),
+      Flag<O>(
+          "mutual_check", [](O& o) -> bool& { return o.features.matching.mutual_check; },
+          "descriptor matching: keep mutual best matches only"),
+      Number<O>(
+          "ransac_threshold_px", [](O& o) -> double& { return o.features.ransac.threshold_px; },
+          0.05, 50.0, "px", "five-point RANSAC inlier threshold"),
+      Number<O>(
+          "key_frame_min_correspondences",
+          [](O& o) -> int& { return o.features.key_frames.min_correspondences; }, 6, 100000, "",
+          "key frames: fewer inliers to the key frame end its span (000 §5.1)"),
+      Number<O>(
+          "key_frame_max_flow_fraction",
+          [](O& o) -> double& { return o.features.key_frames.max_median_flow_fraction; }, 0.001,
+          1.0, "", "key frames: a median flow above this fraction of the image ends the span"),
+      Number<O>(
+          "initial_key_frames", [](O& o) -> int& { return o.odometer.initial_key_frames; }, 2, 1000,
+          "", "key frames of the initial-position optimisation, N_XY (000 §5.3.2)"),
+      Flag<O>(
+          "optimise_initial_position",
+          [](O& o) -> bool& { return o.odometer.optimise_initial_position; },
+          "estimate C_X, C_Y of the start by reprojection (000 §5.3.2)"),
+      Flag<O>(
+          "refine", [](O& o) -> bool& { return o.odometer.refine; },
+          "six-degree-of-freedom refinement of the last 2N key frames (000 §5.3.3)"),
+      Number<O>(
+          "refine_every", [](O& o) -> int& { return o.odometer.refine_every; }, 1, 100000, "",
+          "N: refine every N key frames"),
+      Number<O>(
+          "refine_passes", [](O& o) -> int& { return o.odometer.refine_passes; }, 1, 100, "",
+          "passes over the refined key frames"),
+      Flag<O>(
+          "refine_at_end", [](O& o) -> bool& { return o.odometer.refine_at_end; },
+          "refine the last window after the last key frame (beyond 000)"),
+      Number<O>(
+          "huber_m", [](O& o) -> double& { return o.odometer.axial_step.huber_m; }, 0.0, 1.0, "m",
+          "robust loss on surface distances, 0 = off",
+          [](O& o) -> double& { return o.odometer.refinement.huber_m; }),
+      Number<O>(
+          "reprojection_loss_px",
+          [](O& o) -> double& { return o.odometer.initial_position.robust_loss_px; }, 0.0, 1000.0,
+          "px", "Cauchy loss of the reprojections (000 §5.3.2 and the window adjustment), 0 = off",
+          [](O& o) -> double& { return o.odometer.window.robust_loss_px; }),
+      Flag<O>(
+          "window_adjustment", [](O& o) -> bool& { return o.odometer.window_adjustment; },
+          "joint window adjustment through the cylinder (beyond 000)"),
+      Flag<O>(
+          "hold_measured_start", [](O& o) -> bool& { return o.hold_measured_start; },
+          "hold the first key frame's place across the pipe where the start is measured"),
+      Flag<O>(
+          "pipelined", [](O& o) -> bool& { return o.pipelined; },
+          "read frames and extract features on a second thread (same results)"),
+      Flag<O>(
+          "global_scale", [](O& o) -> bool& { return o.odometer.global_scale; },
+          "one cross-section offset and travel scale over the whole run (beyond 000)"),
+      Flag<O>(
+          "revisit", [](O& o) -> bool& { return o.odometer.revisit; },
+          "match key frames to older ones of the same place (out-and-back runs)"),
+      Number<O>(
+          "revisit_max_offset_fraction",
+          [](O& o) -> double& { return o.odometer.revisit_max_offset_fraction; }, 0.0, 10.0, "",
+          "revisits: the older key frame is within this fraction of the view's extent"),
+      Number<O>(
+          "revisit_min_inliers", [](O& o) -> int& { return o.odometer.revisit_min_inliers; }, 6,
+          100000, "", "revisits: fewest RANSAC inliers to accept one"),
+      Number<O>(
+          "window_size", [](O& o) -> int& { return o.odometer.window_size; }, 2, 10000, "",
+          "window adjustment: key frames adjusted"),
+      Number<O>(
+          "window_every", [](O& o) -> int& { return o.odometer.window_every; }, 1, 10000, "",
+          "window adjustment: run every so many key frames"),
+      Number<O>(
+          "window_fixed", [](O& o) -> int& { return o.odometer.window_fixed; }, 0, 10000, "",
+          "window adjustment: oldest key frames held"),
+      Number<O>(
+          "window_iterations", [](O& o) -> int& { return o.odometer.window.max_iterations; }, 1,
+          1000, "", "window adjustment: Levenberg-Marquardt iterations"),
+      Number<O>(
+          "window_cross_section_sigma_m",
+          [](O& o) -> double& { return o.odometer.window.cross_section_step_sigma_m; }, 0.0, 1.0,
+          "m", "window adjustment: sigma of a key frame's step across the pipe, 0 = free"),
+      Number<O>(
+          "cross_section_anchor_sigma_m",
+          [](O& o) -> double& { return o.odometer.window.cross_section_anchor_sigma_m; }, 0.0, 1.0,
+          "m", "window adjustment: sigma holding key frames to the measured start, 0 = off"),
+      Number<O>(
+          "min_correspondences", [](O& o) -> int& { return o.min_correspondences; }, 6, 100000, "",
+          "fewest inlier correspondences to localise a frame"),
+      Choice<O>(
+          "axis_along_pipe", [](O& o) -> std::string& { return o.mount.axis_along_pipe; },
+          {"x", "-x", "y", "-y"}, "the camera axis that points down the pipe"),
+      Number<O>(
+          "wall_distance_m", [](O& o) -> double& { return o.wall_distance_m; }, 0.0, 100.0, "m",
+          "start camera's distance to the wall, 0 = from the reference scale or radius"),
+      Number<O>(
+          "max_saturated_fraction", [](O& o) -> double& { return o.max_saturated_fraction; }, 0.0,
+          1.0, "", "frames with more saturated pixels are not used"),
+      Flag<O>(
+          "mosaic", [](O& o) -> bool& { return o.build_mosaic; }, "write mosaic.png"),
+      ScaledNumber<O>(
+          "mosaic_mm_per_px", [](O& o) -> double& { return o.mosaic_pixel_m; }, 0.0, 1000.0, "mm",
+          "mosaic cell, 0 = the camera's ground resolution", 0.001),
+      Number<O>(
+          "mosaic_spacing_cells", [](O& o) -> double& { return o.mosaic_spacing_cells; }, 0.0, 1e6,
+          "cells", "frames in the mosaic are at least this far apart"),
+  });
+  return table;
 }
 
 }  // namespace pipescope

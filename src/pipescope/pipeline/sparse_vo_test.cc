@@ -97,15 +97,15 @@ TEST(SparseVo, RevisitsTieTheWayBackToTheWayOut) {
   const Trajectory truth = ReadTumTrajectory(manifest.groundtruth_path);
   SparseVoOptions options;
   options.build_mosaic = false;
-  options.refine_every = 5;
-  options.harris.sigma_window_px = 1.5;
-  options.harris.sigma_derivative_px = 0.75;
-  options.revisit = false;
+  options.odometer.refine_every = 5;
+  options.features.harris.sigma_window_px = 1.5;
+  options.features.harris.sigma_derivative_px = 0.75;
+  options.odometer.revisit = false;
   const SparseVoResult alone = RunSparseVo(manifest, camera, options);
-  options.revisit = true;
+  options.odometer.revisit = true;
   const SparseVoResult tied = RunSparseVo(manifest, camera, options);
-  EXPECT_EQ(alone.revisits, 0);
-  EXPECT_GE(tied.revisits, 10);
+  EXPECT_EQ(alone.summary.revisits, 0);
+  EXPECT_GE(tied.summary.revisits, 10);
   const double alone_m = WayBackDisagreementAcrossM(truth, alone.key_frames);
   const double tied_m = WayBackDisagreementAcrossM(truth, tied.key_frames);
   std::cout << "way back against way out across the pipe, RMS: " << 1000 * alone_m << " mm alone, "
@@ -118,21 +118,21 @@ TEST(SparseVo, ShortRunStaysWithinBound) {
   const Camera camera = ReadCamera(manifest.camera_path);
   SparseVoOptions options;
   options.build_mosaic = false;
-  options.refine_every = 5;  // so the short run exercises the 6-DOF refinement
+  options.odometer.refine_every = 5;  // so the short run exercises the 6-DOF refinement
   // 000's sigma_W = 3, sigma_D = 1.5 are for 640x480 frames; these are half that size.
-  options.harris.sigma_window_px = 1.5;
-  options.harris.sigma_derivative_px = 0.75;
+  options.features.harris.sigma_window_px = 1.5;
+  options.features.harris.sigma_derivative_px = 0.75;
   // This robot moves 3.6 mm across the pipe within the run's 0.19 m and stays off its start:
   // the default anchor, which takes the crawler to be centred over metres, would count that
   // against the scale (measured: 1.50 % with it, 0.05 % without; docs/sparse_vo.md).
-  options.window.cross_section_anchor_sigma_m = 0.0;
+  options.odometer.window.cross_section_anchor_sigma_m = 0.0;
   const SparseVoResult result = RunSparseVo(manifest, camera, options);
   EXPECT_EQ(result.trajectory.size(), 60u);  // every frame has a pose
   EXPECT_GE(result.key_frames.size(), 10u);
-  EXPECT_GE(result.refinements, 1);
+  EXPECT_GE(result.summary.refinements, 1);
   EXPECT_GT(result.points.size(), 300u);
-  EXPECT_GE(result.window_adjustments, 1);
-  EXPECT_EQ(result.revisits, 0);  // one way: no place is seen twice
+  EXPECT_GE(result.summary.window_adjustments, 1);
+  EXPECT_EQ(result.summary.revisits, 0);  // one way: no place is seen twice
   const Metrics metrics =
       EvaluateTrajectory(ReadTumTrajectory(manifest.groundtruth_path), result.trajectory, {});
   ASSERT_TRUE(metrics.distance_error_pct);

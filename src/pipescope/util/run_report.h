@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "pipescope/util/stage_times.h"
+
 namespace pipescope {
 
 // The program's version, from CMake's project() call.
@@ -20,6 +22,12 @@ class RunReport {
   void SetMethod(const std::string& method) { method_ = method; }
   void SetOptions(nlohmann::json options) { options_ = std::move(options); }
   void AddTiming(const std::string& name, double seconds) { timings_[name] += seconds; }
+  // Each stage's wall seconds as "PREFIX_STAGE" and its CPU seconds as "PREFIX_STAGE_cpu".
+  void AddStageTimes(const std::string& prefix, const StageTimes& times) {
+    for (const auto& [stage, seconds] : times.wall()) AddTiming(prefix + "_" + stage, seconds);
+    for (const auto& [stage, seconds] : times.cpu())
+      AddTiming(prefix + "_" + stage + "_cpu", seconds);
+  }
   void SetCount(const std::string& name, long long value) { counts_[name] = value; }
   void IncrementCount(const std::string& name, long long by = 1) { counts_[name] += by; }
   void Warn(const std::string& message);

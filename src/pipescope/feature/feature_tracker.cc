@@ -1,0 +1,218 @@
+#include "pipescope/feature/feature_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "pipescope/util/median.h"
+
+namespace pipescope {
+
+RegionHarrisOptions FisheyeRegionHarrisOptions() {
+  RegionHarrisOptions options;
+  options.grid_rows = 2;
+  options.grid_cols = 2;
+  options.per_cell = 200;
+  options.nms_window_px = 7;
+  options.box_window_px = 7;
+  options.sobel_aperture = 3;
+  options.k = 0.04;
+  options.border_px = 16;
+  options.min_relative_response = 1e-6;
+  options.subpixel = false;
+  return options;
+}
+
+FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions& options)
+    : camera_(camera),
+      options_(options),
+      bearings_(camera, options.max_view_angle_deg * M_PI / 180.0) {
+  // Corners only where their whole descriptor region lies inside the field of view.
+  const int side = options_.descriptor.region_size_px;
+  cv::erode(bearings_.valid_mask(), detection_mask_,
+            cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+}
+
+std::vector<cv::Point2f> FeatureTracker::Detect(const cv::Mat& grey) const {
+  std::vector<cv::Point2f> points;
+  for (const Keypoint& keypoint : DetectRegionHarris(grey, options_.harris, detection_mask_)) {
+    points.push_back(keypoint.position);
+  }
+  return points;
+}
+
+bool FeatureTracker::Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const {
+  return camera_.Unproject(Eigen::Vector2d(pixel.x, pixel.y), bearing);
+}
+
+void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
+                                  std::vector<TrackedFeature> features, TrackedKeyframe* keyframe,
+                                  const cv::Mat& detection_descriptors,
+                                  const std::vector<int>& detection_rows) {
+  auto state = std::make_unique<KeyframeState>();
+  state->frame_index = frame_index;
+  state->grey = grey.clone();
+  state->features = std::move(features);
+  for (const TrackedFeature& feature : state->features) state->points.push_back(feature.pixel);
+  if (detection_rows.empty()) {
+    state->descriptors = ComputeTemplateDescriptors(grey, state->points, options_.descriptor);
+  } else {
+    // A descriptor depends only on the image and the pixel: the detections' rows are copied,
+    // only the guided matches' (sub-pixel, new places) are computed.
+    std::vector<cv::Point2f> missing_points;
+    for (std::size_t k = 0; k < state->points.size(); ++k) {
+      if (detection_rows[k] < 0) missing_points.push_back(state->points[k]);
+    }
+    const cv::Mat missing = ComputeTemplateDescriptors(grey, missing_points, options_.descriptor);
+    const int dim = options_.descriptor.descriptor_size * options_.descriptor.descriptor_size;
+    state->descriptors.create(static_cast<int>(state->points.size()), dim, CV_32F);
+    int next_missing = 0;
+    for (std::size_t k = 0; k < state->points.size(); ++k) {
+      const int row = static_cast<int>(k);
+      if (detection_rows[k] >= 0) {
+        detection_descriptors.row(detection_rows[k]).copyTo(state->descriptors.row(row));
+      } else {
+        missing.row(next_missing++).copyTo(state->descriptors.row(row));
+      }
+    }
+  }
+  keyframe->frame_index = frame_index;
+  keyframe->features = state->features;
+  last_ = std::move(state);
+}
+
+TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
+                                   TrackedKeyframe* keyframe) {
+  TrackingStep step;
+  const std::vector<cv::Point2f> points = Detect(grey);
+  if (!last_) {
+    std::vector<TrackedFeature> features;
+    for (const cv::Point2f& point : points) {
+      TrackedFeature feature;
+      if (!Bearing(point, &feature.bearing)) continue;
+      feature.track_id = next_track_id_++;
+      feature.pixel = point;
+      features.push_back(feature);
+    }
+    *keyframe = TrackedKeyframe();
+    MakeKeyframe(grey, frame_index, std::move(features), keyframe);
+    step.keyframe = true;
+    step.correspondence_fraction = 1.0;
+    return step;
+  }
+
+  const cv::Mat descriptors = ComputeTemplateDescriptors(grey, points, options_.descriptor);
+  const std::vector<FeatureMatch> matches = MatchByCosineSimilarity(
+      last_->descriptors, last_->points, descriptors, points, options_.matching);
+  std::vector<Eigen::Vector3d> bearings_i, bearings_j;
+  std::vector<FeatureMatch> usable_matches;
+  for (const FeatureMatch& match : matches) {
+    Eigen::Vector3d bearing_j;
+    if (!Bearing(points[match.index_b], &bearing_j)) continue;
+    bearings_i.push_back(last_->features[match.index_a].bearing);
+    bearings_j.push_back(bearing_j);
+    usable_matches.push_back(match);
+  }
+  // The last key-frame step is the motion prior (a crawler moves smoothly along the pipe).
+  std::vector<Eigen::Matrix3d> priors;
+  if (last_motion_) priors.push_back(last_motion_->essential);
+  const SphereRelativePose pose =
+      EstimateSphereRelativePose(bearings_i, bearings_j, options_.relative_pose, priors);
+  step.inliers = pose.num_inliers;
+  if (!pose.success || pose.num_inliers < options_.min_inliers) {
+    step.usable = false;
+    step.failure = "only " + std::to_string(pose.num_inliers) + " of " +
+                   std::to_string(usable_matches.size()) +
+                   " template matches agree with one relative pose";
+    return step;
+  }
+  std::vector<double> flows;
+  for (std::size_t k = 0; k < usable_matches.size(); ++k) {
+    if (!pose.inliers[k]) continue;
+    flows.push_back(
+        cv::norm(last_->points[usable_matches[k].index_a] - points[usable_matches[k].index_b]));
+  }
+  step.median_flow_px = UpperMedian(flows);
+  step.correspondence_fraction =
+      static_cast<double>(pose.num_inliers) / std::max<std::size_t>(1, last_->features.size());
+  step.keyframe = step.median_flow_px >= options_.min_median_flow_px ||
+                  step.correspondence_fraction < options_.min_correspondence_fraction;
+  if (!step.keyframe) return step;
+
+  // The new key frame: inlier template matches keep their track ids ...
+  std::vector<TrackedFeature> features;
+  std::vector<int> detection_rows;  // per feature: its row of `descriptors`, -1 for guided
+  std::vector<char> matched_i(last_->features.size(), 0);
+  std::vector<char> used_j(points.size(), 0);
+  for (std::size_t k = 0; k < usable_matches.size(); ++k) {
+    if (!pose.inliers[k]) continue;
+    const FeatureMatch& match = usable_matches[k];
+    matched_i[match.index_a] = 1;
+    used_j[match.index_b] = 1;
+    features.push_back(
+        {last_->features[match.index_a].track_id, points[match.index_b], bearings_j[k]});
+    detection_rows.push_back(match.index_b);
+  }
+  const int matches_cosine = static_cast<int>(features.size());
+  // ... the key frame's unmatched features are searched for by guided ZNCC ...
+  if (options_.guided_matching) {
+    std::vector<std::size_t> unmatched;
+    for (std::size_t i = 0; i < last_->features.size(); ++i) {
+      if (!matched_i[i]) unmatched.push_back(i);
+    }
+    // The searches are independent (read-only images): spread over the cores, gathered in the
+    // key frame's feature order, so the result does not depend on the thread count.
+    std::vector<GuidedMatch> searches(unmatched.size());
+    cv::parallel_for_(
+        cv::Range(0, static_cast<int>(unmatched.size())), [&](const cv::Range& range) {
+          for (int u = range.start; u < range.end; ++u) {
+            const TrackedFeature& feature = last_->features[unmatched[u]];
+            searches[u] = GuidedZnccSearch(last_->grey, grey, feature.pixel, feature.bearing,
+                                           pose.essential, bearings_, options_.guided);
+          }
+        });
+    for (std::size_t u = 0; u < unmatched.size(); ++u) {
+      const TrackedFeature& feature = last_->features[unmatched[u]];
+      const GuidedMatch& guided = searches[u];
+      if (!guided.found) continue;
+      const int x = static_cast<int>(std::lround(guided.point_j.x));
+      const int y = static_cast<int>(std::lround(guided.point_j.y));
+      if (x < 0 || y < 0 || x >= grey.cols || y >= grey.rows || !detection_mask_.at<uchar>(y, x))
+        continue;
+      TrackedFeature tracked{feature.track_id, guided.point_j, Eigen::Vector3d()};
+      if (!Bearing(guided.point_j, &tracked.bearing)) continue;
+      features.push_back(tracked);
+      detection_rows.push_back(-1);
+    }
+  }
+  const int matches_guided = static_cast<int>(features.size()) - matches_cosine;
+  // ... and the remaining detections start new tracks, unless they duplicate a tracked one.
+  const double duplicate2 = options_.duplicate_radius_px * options_.duplicate_radius_px;
+  const std::size_t tracked_count = features.size();
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    if (used_j[j]) continue;
+    bool duplicate = false;
+    for (std::size_t k = matches_cosine; k < tracked_count && !duplicate; ++k) {
+      const cv::Point2f d = features[k].pixel - points[j];
+      duplicate = d.dot(d) < duplicate2;
+    }
+    if (duplicate) continue;
+    TrackedFeature feature{next_track_id_, points[j], Eigen::Vector3d()};
+    if (!Bearing(points[j], &feature.bearing)) continue;
+    ++next_track_id_;
+    features.push_back(feature);
+    detection_rows.push_back(static_cast<int>(j));
+  }
+  *keyframe = TrackedKeyframe();
+  keyframe->has_previous = true;
+  keyframe->relative_pose = pose;
+  last_motion_ = pose;
+  keyframe->matches_cosine = matches_cosine;
+  keyframe->matches_guided = matches_guided;
+  keyframe->median_flow_px = step.median_flow_px;
+  MakeKeyframe(grey, frame_index, std::move(features), keyframe, descriptors, detection_rows);
+  return step;
+}
+
+}  // namespace pipescope

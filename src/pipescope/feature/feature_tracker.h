@@ -1,0 +1,123 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/feature/guided_zncc.h"
+#include "pipescope/feature/region_harris.h"
+#include "pipescope/feature/template_descriptor.h"
+#include "pipescope/geometry/sphere_relative_pose.h"
+
+namespace pipescope {
+
+// Feature tracking with key framing (001 §III-A): region Harris, template descriptors matched by
+// cosine similarity against the last key frame, relative pose with RANSAC on the sphere,
+// epipolar-guided ZNCC for the key frame's unmatched features, and a new key frame when the
+// median flow is large enough or the share of corresponding features drops. Features are
+// tracked over many frames by matching key frame to key frame recursively: a matched feature
+// keeps its track id.
+// 001's region Harris: 2 x 2 regions, the strongest 200 of each (after Nister et al. [6]), a 7 x 7
+// box window (larger than 3 against sensor noise), integer positions, 16 px clear of the border
+// so the 31 x 31 descriptor region fits.
+RegionHarrisOptions FisheyeRegionHarrisOptions();
+
+struct FeatureTrackerOptions {
+  RegionHarrisOptions harris = FisheyeRegionHarrisOptions();
+  TemplateDescriptorOptions descriptor;
+  CosineMatchOptions matching;
+  SphereRelativePoseOptions relative_pose;
+  GuidedZnccOptions guided;
+  bool guided_matching = true;
+  // No features farther than this from the optical axis. The lens sees to 95 degrees (001:
+  // 190), but past about 80 degrees the wall lies within 3.5 cm of the lens in a 400 mm pipe, a
+  // 1 cm key-frame step changes its view by tens of pixels. On the 8.4 m straight benchmark:
+  // 95 degrees -1.34 % with 6 frames RANSAC could not match and a tracking reset, 80 degrees
+  // -0.40 %, 70 degrees -0.06 %, no failures (docs/fisheye_mapping.md, "View angle").
+  double max_view_angle_deg = 70.0;
+  // Key frame when the median flow to the last key frame reaches this ...
+  double min_median_flow_px = 10.0;
+  // ... or the corresponding fraction of the key frame's features falls below this (001: "both
+  // minimums are selected empirically").
+  double min_correspondence_fraction = 0.4;
+  // Fewer RANSAC inliers than this: the frame cannot be used.
+  int min_inliers = 30;
+  // A new detection this close to a tracked feature is the same feature.
+  double duplicate_radius_px = 3.0;
+};
+
+struct TrackedFeature {
+  long track_id = -1;
+  cv::Point2f pixel;
+  Eigen::Vector3d bearing;
+};
+
+// A key frame's features and its link to the previous key frame.
+struct TrackedKeyframe {
+  int frame_index = 0;
+  std::vector<TrackedFeature> features;
+  // From the previous key frame: cam_this_from_cam_previous up to scale, and match counts.
+  bool has_previous = false;
+  SphereRelativePose relative_pose;
+  int matches_cosine = 0;
+  int matches_guided = 0;
+  double median_flow_px = 0.0;
+};
+
+struct TrackingStep {
+  bool keyframe = false;
+  bool usable = true;   // false: the frame could not be matched to the key frame
+  std::string failure;  // why not usable
+  double median_flow_px = 0.0;
+  double correspondence_fraction = 0.0;
+  int inliers = 0;
+};
+
+class FeatureTracker {
+ public:
+  FeatureTracker(const Camera& camera, const FeatureTrackerOptions& options = {});
+
+  // Tracks `grey` (CV_32F, the camera's size) against the last key frame. The first frame is
+  // always a key frame. When the step makes a key frame, `*keyframe` receives it.
+  TrackingStep Track(const cv::Mat& grey, int frame_index, TrackedKeyframe* keyframe);
+
+  // Starts over: the next frame becomes a key frame without a link to the previous one (the
+  // last step stays the motion prior).
+  void Reset() { last_.reset(); }
+
+  const BearingTable& bearings() const { return bearings_; }
+  // The last key frame's template descriptors, one row per feature of its TrackedKeyframe.
+  const cv::Mat& keyframe_descriptors() const { return last_ ? last_->descriptors : empty_; }
+
+ private:
+  struct KeyframeState {
+    int frame_index;
+    cv::Mat grey;
+    std::vector<TrackedFeature> features;
+    std::vector<cv::Point2f> points;
+    cv::Mat descriptors;
+  };
+
+  std::vector<cv::Point2f> Detect(const cv::Mat& grey) const;
+  bool Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const;
+  // `detection_rows[k]`: the row of `detection_descriptors` already computed at features[k]'s
+  // pixel in this image, or -1 (then it is computed here); empty: all are computed here.
+  void MakeKeyframe(const cv::Mat& grey, int frame_index, std::vector<TrackedFeature> features,
+                    TrackedKeyframe* keyframe, const cv::Mat& detection_descriptors = cv::Mat(),
+                    const std::vector<int>& detection_rows = {});
+
+  const Camera& camera_;
+  FeatureTrackerOptions options_;
+  BearingTable bearings_;
+  cv::Mat detection_mask_;
+  std::unique_ptr<KeyframeState> last_;
+  std::optional<SphereRelativePose> last_motion_;  // the last key-frame step, a RANSAC prior
+  long next_track_id_ = 0;
+  cv::Mat empty_;
+};
+
+}  // namespace pipescope

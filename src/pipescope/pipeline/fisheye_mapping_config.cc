@@ -1,0 +1,156 @@
+#include "pipescope/pipeline/fisheye_mapping_config.h"
+
+namespace pipescope {
+
+const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
+  using O = FisheyeMappingOptions;
+  static const OptionTable<O> table({
+      // Tracking and classification (001 §III-A, §III-B).
+      Number<O>(
+          "per_region", [](O& o) -> int& { return o.tracking.harris.per_cell; }, 1, 10000, "",
+          "region Harris: strongest corners per region (001: 200)"),
+      Number<O>(
+          "min_median_flow_px", [](O& o) -> double& { return o.tracking.min_median_flow_px; }, 0.1,
+          1000.0, "px", "a key frame when the median flow to the last one reaches this"),
+      Number<O>(
+          "min_correspondence_fraction",
+          [](O& o) -> double& { return o.tracking.min_correspondence_fraction; }, 0.0, 1.0, "",
+          "... or the share of features still corresponding drops below this"),
+      Number<O>(
+          "min_similarity", [](O& o) -> double& { return o.tracking.matching.min_similarity; },
+          -1.0, 1.0, "", "template matching: cosine similarity of a match"),
+      Number<O>(
+          "inlier_threshold_rad",
+          [](O& o) -> double& { return o.tracking.relative_pose.inlier_threshold_rad; }, 1e-5, 0.5,
+          "rad", "relative pose on the sphere: RANSAC inlier threshold"),
+      Flag<O>(
+          "guided_matching", [](O& o) -> bool& { return o.tracking.guided_matching; },
+          "epipolar-guided ZNCC matching in the fisheye image"),
+      Number<O>(
+          "min_zncc", [](O& o) -> double& { return o.tracking.guided.min_zncc; }, -1.0, 1.0, "",
+          "guided matching: ZNCC of a match"),
+      Number<O>(
+          "max_view_angle_deg", [](O& o) -> double& { return o.tracking.max_view_angle_deg; }, 1.0,
+          180.0, "deg", "features further from the optical axis are not tracked"),
+      Number<O>(
+          "max_straight_moment_ratio",
+          [](O& o) -> double& { return o.classification.max_straight_moment_ratio; }, 1.0, 100.0,
+          "", "straight / T classification: L_p / L of a straight view (001 §III-B)"),
+      Number<O>(
+          "dark_fraction_of_median",
+          [](O& o) -> double& { return o.classification.dark_fraction_of_median; }, 0.0, 1.0, "",
+          "classification: a pixel darker than this fraction of the median is dark"),
+      Number<O>(
+          "min_cluster_size", [](O& o) -> int& { return o.min_cluster_size; }, 1, 100000, "",
+          "key frames: the classes' temporal filter (001 Fig. 3d)"),
+      // The odometry and its windows (001 §III-C).
+      Number<O>(
+          "window_interval", [](O& o) -> int& { return o.odometry.window_interval; }, 1, 100000, "",
+          "adjust a window every so many key frames (001: 50)"),
+      Number<O>(
+          "window_size", [](O& o) -> int& { return o.odometry.window_size; }, 3, 100000, "",
+          "key frames in a window (001: 100)"),
+      Number<O>(
+          "tau", [](O& o) -> double& { return o.odometry.window.tau; }, 0.0, 1e12, "",
+          "weight of the cylinder term (001 eq. 2: 2.5e5)"),
+      Flag<O>(
+          "use_cylinder", [](O& o) -> bool& { return o.odometry.window.use_cylinder; },
+          "the cylinder term in straight sections"),
+      Number<O>(
+          "huber_px", [](O& o) -> double& { return o.odometry.window.huber_px; }, 0.01, 1000.0,
+          "px", "Huber threshold of the image term"),
+      Number<O>(
+          "mad_factor", [](O& o) -> double& { return o.odometry.window.mad_factor; }, 0.5, 100.0,
+          "", "MAD outlier removal: factor of 1.4826 MAD"),
+      Number<O>(
+          "stages", [](O& o) -> int& { return o.odometry.window.stages; }, 1, 100, "",
+          "outlier-removal stages of a window"),
+      Number<O>(
+          "max_iterations_per_stage",
+          [](O& o) -> int& { return o.odometry.window.max_iterations_per_stage; }, 1, 10000, "",
+          "Levenberg-Marquardt iterations of the last stage"),
+      Number<O>(
+          "max_iterations_before_outlier_removal",
+          [](O& o) -> int& { return o.odometry.window.max_iterations_before_outlier_removal; }, 1,
+          10000, "", "Levenberg-Marquardt iterations of the earlier stages"),
+      Number<O>(
+          "axis_prior_sigma_deg",
+          [](O& o) -> double& { return o.odometry.window.axis_prior_sigma_deg; }, 1e-6, 180.0,
+          "deg", "axis prior: sigma of the angle to the previous window's axis"),
+      Number<O>(
+          "axis_prior_sigma_m",
+          [](O& o) -> double& { return o.odometry.window.axis_prior_sigma_m; }, 1e-9, 10.0, "m",
+          "axis prior: sigma of the axes' offset"),
+      Number<O>(
+          "first_rotation_sigma_deg",
+          [](O& o) -> double& { return o.odometry.window.first_rotation_sigma_deg; }, 1e-6, 180.0,
+          "deg", "sigma of the window's first rotation when the axis prior holds it"),
+      Number<O>(
+          "window_threads", [](O& o) -> int& { return o.odometry.window.num_threads; }, 1, 64, "",
+          "threads of a window's solve"),
+      Number<O>(
+          "min_triangulation_angle_deg",
+          [](O& o) -> double& { return o.odometry.min_triangulation_angle_deg; }, 0.0, 90.0, "deg",
+          "a new point needs this angle between its first and latest rays"),
+      Number<O>(
+          "min_scale_parallax_rad",
+          [](O& o) -> double& { return o.odometry.min_scale_parallax_rad; }, 0.0, 1.5, "rad",
+          "a point fixes the step's scale only when its two rays part by this"),
+      Number<O>(
+          "min_cylinder_scale_points",
+          [](O& o) -> int& { return o.odometry.min_cylinder_scale_points; }, 1, 100000, "",
+          "fewest two-view points to take the step length from the radius"),
+      Flag<O>(
+          "fit_axis_per_step", [](O& o) -> bool& { return o.odometry.fit_axis_per_step; },
+          "fit the axis with the scale to each step's points"),
+      Number<O>(
+          "stale_axis_keyframes", [](O& o) -> int& { return o.odometry.stale_axis_keyframes; }, 1,
+          100000, "", "without a window for this long, the axis is fitted per step"),
+      Flag<O>(
+          "refine_pose_on_structure",
+          [](O& o) -> bool& { return o.odometry.refine_pose_on_structure; },
+          "refine each step on the triangulated points"),
+      Number<O>(
+          "max_step_direction_change_deg",
+          [](O& o) -> double& { return o.odometry.max_step_direction_change_deg; }, 0.0, 90.0,
+          "deg", "a translation further off the recent direction is rejected"),
+      Number<O>(
+          "max_step_change", [](O& o) -> double& { return o.odometry.max_step_change; }, 1.0, 100.0,
+          "", "a step length more than this factor off the recent speed is not taken"),
+      Number<O>(
+          "speed_history", [](O& o) -> int& { return o.odometry.speed_history; }, 1, 10000, "",
+          "key-frame steps of the recent speed"),
+      Flag<O>(
+          "retriangulate_in_window",
+          [](O& o) -> bool& { return o.odometry.retriangulate_in_window; },
+          "triangulate every track of a window anew from its poses"),
+      Number<O>(
+          "max_window_start_error_px",
+          [](O& o) -> double& { return o.odometry.max_window_start_error_px; }, 0.0, 1e6, "px",
+          "observations further off start a window as outliers"),
+      Flag<O>(
+          "axis_prior", [](O& o) -> bool& { return o.odometry.axis_prior; },
+          "tie each straight window's cylinder to the previous window's axis"),
+      Number<O>(
+          "max_window_length_change",
+          [](O& o) -> double& { return o.odometry.max_window_length_change; }, 1.0, 100.0, "",
+          "a window whose path length changes by more than this factor is dropped"),
+      Number<O>(
+          "max_window_speed_ratio",
+          [](O& o) -> double& { return o.odometry.max_window_speed_ratio; }, 1.0, 1000.0, "",
+          "... or whose fastest step is more than this factor over its median speed"),
+      Number<O>(
+          "max_window_rms_px", [](O& o) -> double& { return o.odometry.max_window_rms_px; }, 0.0,
+          1000.0, "px", "a window is applied only below this image RMS"),
+      Number<O>(
+          "max_window_cylinder_rms",
+          [](O& o) -> double& { return o.odometry.max_window_cylinder_rms; }, 0.0, 10.0, "radii",
+          "... and with its points on the wall to this RMS"),
+      Flag<O>(
+          "overlap_odometry", [](O& o) -> bool& { return o.overlap_odometry; },
+          "run the odometry on a second thread while tracking (same results)"),
+  });
+  return table;
+}
+
+}  // namespace pipescope

@@ -1,0 +1,62 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipescope/eval/metrics.h"
+#include "pipescope/io/point_cloud_ply.h"
+#include "pipescope/io/trajectory.h"
+#include "pipescope/util/run_report.h"
+#include "pipescope/util/staging_directory.h"
+#include "pipescope/util/timer.h"
+
+namespace pipescope {
+
+// The one writer of a run directory (GUIDE §4), for every command that writes one (`odometry`,
+// `map`): the files go into a staging folder beside the target, and Commit() writes run.json
+// and puts the whole run in place, so the old run or the new one exists whole at every instant.
+// A run that throws before Commit() leaves the target as it was.
+class RunDirectory {
+ public:
+  // `out` is the target named by --out; it must be empty, missing, or an earlier run
+  // (run.json), else InputError. `command` and `method` go into run.json.
+  RunDirectory(const std::filesystem::path& out, std::string command, std::string method);
+
+  // run.json's contents: options, counts, timings, warnings, extra sections.
+  RunReport& report() { return report_; }
+  const std::filesystem::path& staging_path() const { return staging_.path(); }
+
+  // trajectory.tum: every frame that was localised.
+  void WriteTrajectory(const Trajectory& trajectory);
+  // keyframes.tum, for methods with key frames.
+  void WriteKeyFrames(const Trajectory& key_frames);
+  // points_sparse.ply (colours: empty or one per point).
+  void WriteSparsePoints(const std::vector<Eigen::Vector3d>& points,
+                         const std::vector<PlyColour>& colours = {},
+                         const std::string& comment = "pipescope point cloud, metres, pipe frame");
+  // mosaic.png and its description in run.json ("mosaic"), when `mosaic` is not empty;
+  // pixel_m 0: the image-space map, which has no metric cell size.
+  void WriteMosaic(const cv::Mat& mosaic, const std::string& kind, double pixel_m,
+                   cv::Point2d origin_m);
+  // Another image of the run (`name`, e.g. classification.png), written atomically.
+  void WriteImage(const std::string& name, const cv::Mat& image);
+  // metrics.json against `ground_truth` (every metric of docs/formats.md), printed as a table
+  // on standard output too. Returns the metrics.
+  Metrics WriteMetrics(const Trajectory& ground_truth, const Trajectory& estimate);
+
+  // Records the total wall and CPU seconds since construction, writes run.json and moves the
+  // run into place.
+  void Commit();
+
+ private:
+  Timer total_;
+  ProcessCpuTimer total_cpu_;
+  StagingDirectory staging_;
+  RunReport report_;
+};
+
+}  // namespace pipescope
