@@ -1,16 +1,11 @@
 #include "pipescope/pipeline/sparse_vo.h"
 
-#include <algorithm>
 #include <cmath>
 #include <future>
-#include <limits>
 #include <map>
-#include <memory>
 #include <optional>
-#include <set>
+#include <string>
 
-#include "pipescope/estimation/surface_point.h"
-#include "pipescope/estimation/track_statistics.h"
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/image/undistortion.h"
 #include "pipescope/io/image_source.h"
