@@ -17,7 +17,7 @@ namespace pipescope {
 //   u' = pi(R_b^T (X - C_b)),
 // and the residual is u' - u_b, u_b the keypoint observed in b (distorted pixels). The wall
 // point is a function of pose a, so no point parameters are needed: the cylinder is the
-// structure. Differentiated numerically (forward differences) around geometry/RayToWall.
+// structure. Differentiated numerically (central differences) around geometry/RayToWall.
 class CylinderTransferCost {
  public:
   CylinderTransferCost(const Camera& camera, const Eigen::Vector3d& bearing_in_a,

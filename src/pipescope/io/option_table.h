@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <type_traits>
@@ -33,10 +34,16 @@ struct OptionKey {
 // A number in words without a tail of digits: 100000, 0.0005, 1e+06.
 std::string FormatOptionNumber(double value);
 
-// Reads `value` as T, or throws InputError "`where` has an invalid value".
+// Reads `value` as T, or throws InputError "`where` has an invalid value". A bool is also read
+// from 1 and 0.
 template <typename T>
 T ReadOptionValue(const YAML::Node& value, const std::string& where) {
   try {
+    if constexpr (std::is_same_v<T, bool>) {
+      if (value.IsScalar() && (value.Scalar() == "1" || value.Scalar() == "0")) {
+        return value.Scalar() == "1";
+      }
+    }
     return value.as<T>();
   } catch (const YAML::Exception&) {
     throw InputError(where + " has an invalid value");
@@ -118,6 +125,33 @@ OptionKey<Options> Choice(std::string name, Member member, std::vector<std::stri
   };
   key.get = [member](const Options& o) { return nlohmann::json(member(const_cast<Options&>(o))); };
   return key;
+}
+
+// A plain member of `Options`, named by its member pointer: a number (any finite value: checks
+// that involve several keys are the caller's), a true/false switch, or free text.
+template <typename Options, typename T>
+OptionKey<Options> Field(std::string name, T Options::*member, std::string help) {
+  const auto access = [member](Options& o) -> T& { return o.*member; };
+  if constexpr (std::is_same_v<T, bool>) {
+    return Flag<Options>(std::move(name), access, std::move(help));
+  } else if constexpr (std::is_arithmetic_v<T>) {
+    OptionKey<Options> key = Number<Options>(
+        std::move(name), access, std::is_signed_v<T> ? std::numeric_limits<double>::lowest() : 0.0,
+        std::numeric_limits<double>::max(), "", std::move(help));
+    key.range = "finite";
+    return key;
+  } else {
+    static_assert(std::is_same_v<T, std::string>);
+    OptionKey<Options> key;
+    key.name = std::move(name);
+    key.range = "text";
+    key.help = std::move(help);
+    key.set = [member](const YAML::Node& node, const std::string& where, Options* o) {
+      o->*member = ReadOptionValue<std::string>(node, where);
+    };
+    key.get = [member](const Options& o) { return nlohmann::json(o.*member); };
+    return key;
+  }
 }
 
 // A key whose value is converted on the way in and out (units, enums, optional values, a value

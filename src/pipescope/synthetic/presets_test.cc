@@ -117,6 +117,32 @@ TEST(SimulationConfig, SetParsesAndValidatesKeys) {
   }
 }
 
+TEST(SimulationConfig, EveryKeyRoundTripsThroughItsText) {
+  // simulation.yaml records each key as GetConfigValue prints it; --set reads it back exactly.
+  for (const std::string& preset : PresetNames()) {
+    const SimulationConfig original = PresetConfig(preset);
+    SimulationConfig read_back;  // the defaults, not the preset
+    for (const ConfigKey& key : SimulationConfigKeys()) {
+      SetConfigValue(&read_back, std::string(key.name) + "=" + GetConfigValue(original, key.name));
+    }
+    for (const ConfigKey& key : SimulationConfigKeys()) {
+      EXPECT_EQ(GetConfigValue(read_back, key.name), GetConfigValue(original, key.name))
+          << preset << " " << key.name;
+    }
+    EXPECT_EQ(SimulationOptionTable().ToJson(read_back), SimulationOptionTable().ToJson(original))
+        << preset;
+  }
+  SimulationConfig config;
+  EXPECT_NE(InputErrorMessage([&] { SetConfigValue(&config, "seed=-1"); }).find("seed"),
+            std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { SetConfigValue(&config, "fps=.nan"); }).find("fps"),
+            std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { SetConfigValue(&config, "frames=1.5"); }).find("frames"),
+            std::string::npos);
+  SetConfigValue(&config, "out_and_back=1");
+  EXPECT_TRUE(config.out_and_back);
+}
+
 TEST(SimulatedCamera, ReferenceScaleMatchesProjectedWallSpacing) {
   // Through the whole chain: the camera mounted 1 cm above the body centre on the nominal path,
   // its optical axis cast into the scene, and two wall points 1 mm apart along the pipe axis

@@ -3,146 +3,32 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
-#include <variant>
 
 #include "pipescope/util/error.h"
 
 namespace pipescope {
 namespace {
 
-using Member =
-    std::variant<double SimulationConfig::*, int SimulationConfig::*, bool SimulationConfig::*,
-                 std::string SimulationConfig::*, std::uint64_t SimulationConfig::*>;
-
-struct KeyEntry {
-  ConfigKey key;
-  Member member;
-};
-
-const std::vector<KeyEntry>& KeyTable() {
-  static const std::vector<KeyEntry> table = {
-      {{"layout", "straight | square-loop | bend-tube | checkerboard | scale-target"},
-       &SimulationConfig::layout},
-      {{"radius_m", "pipe inner radius, m"}, &SimulationConfig::radius_m},
-      {{"length_m",
-        "straight pipe length (bend-tube: each straight leg; square-loop: T1-T2 distance, the "
-        "loop scaled alike), m"},
-       &SimulationConfig::length_m},
-      {{"end_margin_m", "travel stops this far from an open end, m"},
-       &SimulationConfig::end_margin_m},
-      {{"bend_radius_m", "bend-tube: centreline radius of the bend, m"},
-       &SimulationConfig::bend_radius_m},
-      {{"bend_angle_deg", "bend-tube: bend angle, deg"}, &SimulationConfig::bend_angle_deg},
-      {{"turn_radius_m", "square-loop: robot turning radius inside a T, m"},
-       &SimulationConfig::turn_radius_m},
-      {{"stub_m", "square-loop: dead-end arm beyond each T, m"}, &SimulationConfig::stub_m},
-      {{"mirror_loop", "square-loop: turn right at every T instead of left (true/false)"},
-       &SimulationConfig::mirror_loop},
-      {{"board_cols", "checkerboard: inner corners across"}, &SimulationConfig::board_cols},
-      {{"board_rows", "checkerboard: inner corners down"}, &SimulationConfig::board_rows},
-      {{"board_square_m", "checkerboard: square size, m"}, &SimulationConfig::board_square_m},
-      {{"target_cols", "scale-target: circles along the pipe"}, &SimulationConfig::target_cols},
-      {{"target_rows", "scale-target: circles around the pipe"}, &SimulationConfig::target_rows},
-      {{"target_spacing_m", "scale-target: centre-to-centre spacing, m"},
-       &SimulationConfig::target_spacing_m},
-      {{"target_diameter_m", "scale-target: circle diameter, m"},
-       &SimulationConfig::target_diameter_m},
-      {{"material", "steel | fiberglass | concrete"}, &SimulationConfig::material},
-      {{"texture_contrast", "wall texture contrast, 0 = uniform albedo"},
-       &SimulationConfig::texture_contrast},
-      {{"joint_spacing_m", "weld seams / joints every so many m, 0 = none"},
-       &SimulationConfig::joint_spacing_m},
-      {{"marking_spacing_m", "painted markings and lettering every so many m, 0 = none"},
-       &SimulationConfig::marking_spacing_m},
-      {{"camera_model", "pinhole-radtan | kannala-brandt | fisheye-poly"},
-       &SimulationConfig::camera_model},
-      {{"width", "image width, px"}, &SimulationConfig::width},
-      {{"height", "image height, px"}, &SimulationConfig::height},
-      {{"fov_deg", "horizontal field of view (fisheye-poly: full angle of view), deg"},
-       &SimulationConfig::fov_deg},
-      {{"distortion", "strength of the lens distortion terms"}, &SimulationConfig::distortion},
-      {{"view", "camera mounting: wall (000 eq. 18) | forward"}, &SimulationConfig::view},
-      {{"mount_offset_m", "camera height above the robot's centre, m"},
-       &SimulationConfig::mount_offset_m},
-      {{"led_count", "LEDs around the lens"}, &SimulationConfig::led_count},
-      {{"led_ring_radius_m", "LED distance from the optical axis, m"},
-       &SimulationConfig::led_ring_radius_m},
-      {{"led_tilt_deg", "LED beam tilt outwards, deg"}, &SimulationConfig::led_tilt_deg},
-      {{"led_beam_exponent", "LED beam pattern cos^m"}, &SimulationConfig::led_beam_exponent},
-      {{"specular_strength", "scale of the wall's specular reflectance"},
-       &SimulationConfig::specular_strength},
-      {{"specular_exponent", "Blinn-Phong shininess"}, &SimulationConfig::specular_exponent},
-      {{"exposure_target", "grey level of the brightest white-card pixel"},
-       &SimulationConfig::exposure_target},
-      {{"vignetting", "relative fall-off at the image corner"}, &SimulationConfig::vignetting},
-      {{"noise_sigma", "read noise, grey levels"}, &SimulationConfig::noise_sigma},
-      {{"electrons_per_grey_level", "shot noise: variance = signal / this, 0 = none"},
-       &SimulationConfig::electrons_per_grey_level},
-      {{"motion_blur_samples", "sub-frames per exposure, 1 = no motion blur"},
-       &SimulationConfig::motion_blur_samples},
-      {{"exposure_time_s", "exposure time for motion blur, s"}, &SimulationConfig::exposure_time_s},
-      {{"white_card_count", "white-card renders for the gain mask"},
-       &SimulationConfig::white_card_count},
-      {{"white_card_finish",
-        "white cards: wall (the wall's own specular sheen, in the gain mask) | matte"},
-       &SimulationConfig::white_card_finish},
-      {{"fps", "frame rate, 1/s"}, &SimulationConfig::fps},
-      {{"frames", "number of frames"}, &SimulationConfig::frames},
-      {{"speed_m_s", "mean driving speed, m/s"}, &SimulationConfig::speed_m_s},
-      {{"speed_variation", "relative amplitude of speed changes"},
-       &SimulationConfig::speed_variation},
-      {{"stop_count", "stops during the run"}, &SimulationConfig::stop_count},
-      {{"stop_duration_s", "length of each stop, s"}, &SimulationConfig::stop_duration_s},
-      {{"out_and_back", "drive to the far end and back (true/false)"},
-       &SimulationConfig::out_and_back},
-      {{"lateral_offset_m", "amplitude of the offset from the pipe axis, m"},
-       &SimulationConfig::lateral_offset_m},
-      {{"roll_deg", "amplitude of roll about the pipe axis, deg"}, &SimulationConfig::roll_deg},
-      {{"wobble_deg", "amplitude of pitch and yaw wobble, deg"}, &SimulationConfig::wobble_deg},
-      {{"heading_deg", "amplitude of slow turning (yaw), deg"}, &SimulationConfig::heading_deg},
-      {{"wobble_wavelength_m", "distance over which offsets and wobble change, m"},
-       &SimulationConfig::wobble_wavelength_m},
-      {{"seed", "random seed for texture and motion"}, &SimulationConfig::seed},
-  };
-  return table;
-}
-
-const KeyEntry& FindKey(const std::string& name) {
-  for (const KeyEntry& entry : KeyTable()) {
-    if (name == entry.key.name) return entry;
+const OptionKey<SimulationConfig>& FindKey(const std::string& name) {
+  for (const OptionKey<SimulationConfig>& key : SimulationOptionTable().keys()) {
+    if (key.name == name) return key;
   }
   throw InputError("--set: unknown key '" + name +
                    "' (pipescope simulate --list-presets lists every key)");
 }
 
+// The shortest text of at least ten significant digits that reads back as the same double, so
+// that simulation.yaml reproduces its dataset exactly.
 std::string FormatDouble(double value) {
   char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.10g", value);
-  return buffer;
-}
-
-template <typename T>
-T ParseNumber(const std::string& key, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    T value;
-    if constexpr (std::is_same_v<T, double>) {
-      value = std::stod(text, &used);
-    } else if constexpr (std::is_same_v<T, int>) {
-      value = std::stoi(text, &used);
-    } else {
-      if (!text.empty() && text[0] == '-') throw std::invalid_argument("negative");
-      value = std::stoull(text, &used);
-    }
-    if (used != text.size()) throw std::invalid_argument("trailing characters");
-    if constexpr (std::is_same_v<T, double>) {
-      if (!std::isfinite(value)) throw std::invalid_argument("not finite");
-    }
-    return value;
-  } catch (const std::exception&) {
-    throw InputError("--set " + key + "=" + text + ": not a valid number");
+  for (int digits = 10; digits < 17; ++digits) {
+    std::snprintf(buffer, sizeof(buffer), "%.*g", digits, value);
+    if (std::strtod(buffer, nullptr) == value) return buffer;
   }
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
 }
 
 void Require(bool condition, const std::string& key, const std::string& what) {
@@ -151,28 +37,100 @@ void Require(bool condition, const std::string& key, const std::string& what) {
 
 }  // namespace
 
+const OptionTable<SimulationConfig>& SimulationOptionTable() {
+  using C = SimulationConfig;
+  static const OptionTable<C> table({
+      Field<C>("layout", &C::layout,
+               "straight | square-loop | bend-tube | checkerboard | scale-target"),
+      Field<C>("radius_m", &C::radius_m, "pipe inner radius, m"),
+      Field<C>("length_m", &C::length_m,
+               "straight pipe length (bend-tube: each straight leg; square-loop: T1-T2 distance, "
+               "the loop scaled alike), m"),
+      Field<C>("end_margin_m", &C::end_margin_m, "travel stops this far from an open end, m"),
+      Field<C>("bend_radius_m", &C::bend_radius_m, "bend-tube: centreline radius of the bend, m"),
+      Field<C>("bend_angle_deg", &C::bend_angle_deg, "bend-tube: bend angle, deg"),
+      Field<C>("turn_radius_m", &C::turn_radius_m,
+               "square-loop: robot turning radius inside a T, m"),
+      Field<C>("stub_m", &C::stub_m, "square-loop: dead-end arm beyond each T, m"),
+      Field<C>("mirror_loop", &C::mirror_loop,
+               "square-loop: turn right at every T instead of left (true/false)"),
+      Field<C>("board_cols", &C::board_cols, "checkerboard: inner corners across"),
+      Field<C>("board_rows", &C::board_rows, "checkerboard: inner corners down"),
+      Field<C>("board_square_m", &C::board_square_m, "checkerboard: square size, m"),
+      Field<C>("target_cols", &C::target_cols, "scale-target: circles along the pipe"),
+      Field<C>("target_rows", &C::target_rows, "scale-target: circles around the pipe"),
+      Field<C>("target_spacing_m", &C::target_spacing_m,
+               "scale-target: centre-to-centre spacing, m"),
+      Field<C>("target_diameter_m", &C::target_diameter_m, "scale-target: circle diameter, m"),
+      Field<C>("material", &C::material, "steel | fiberglass | concrete"),
+      Field<C>("texture_contrast", &C::texture_contrast,
+               "wall texture contrast, 0 = uniform albedo"),
+      Field<C>("joint_spacing_m", &C::joint_spacing_m,
+               "weld seams / joints every so many m, 0 = none"),
+      Field<C>("marking_spacing_m", &C::marking_spacing_m,
+               "painted markings and lettering every so many m, 0 = none"),
+      Field<C>("camera_model", &C::camera_model, "pinhole-radtan | kannala-brandt | fisheye-poly"),
+      Field<C>("width", &C::width, "image width, px"),
+      Field<C>("height", &C::height, "image height, px"),
+      Field<C>("fov_deg", &C::fov_deg,
+               "horizontal field of view (fisheye-poly: full angle of view), deg"),
+      Field<C>("distortion", &C::distortion, "strength of the lens distortion terms"),
+      Field<C>("view", &C::view, "camera mounting: wall (000 eq. 18) | forward"),
+      Field<C>("mount_offset_m", &C::mount_offset_m, "camera height above the robot's centre, m"),
+      Field<C>("led_count", &C::led_count, "LEDs around the lens"),
+      Field<C>("led_ring_radius_m", &C::led_ring_radius_m, "LED distance from the optical axis, m"),
+      Field<C>("led_tilt_deg", &C::led_tilt_deg, "LED beam tilt outwards, deg"),
+      Field<C>("led_beam_exponent", &C::led_beam_exponent, "LED beam pattern cos^m"),
+      Field<C>("specular_strength", &C::specular_strength,
+               "scale of the wall's specular reflectance"),
+      Field<C>("specular_exponent", &C::specular_exponent, "Blinn-Phong shininess"),
+      Field<C>("exposure_target", &C::exposure_target,
+               "grey level of the brightest white-card pixel"),
+      Field<C>("vignetting", &C::vignetting, "relative fall-off at the image corner"),
+      Field<C>("noise_sigma", &C::noise_sigma, "read noise, grey levels"),
+      Field<C>("electrons_per_grey_level", &C::electrons_per_grey_level,
+               "shot noise: variance = signal / this, 0 = none"),
+      Field<C>("motion_blur_samples", &C::motion_blur_samples,
+               "sub-frames per exposure, 1 = no motion blur"),
+      Field<C>("exposure_time_s", &C::exposure_time_s, "exposure time for motion blur, s"),
+      Field<C>("white_card_count", &C::white_card_count, "white-card renders for the gain mask"),
+      Field<C>("white_card_finish", &C::white_card_finish,
+               "white cards: wall (the wall's own specular sheen, in the gain mask) | matte"),
+      Field<C>("fps", &C::fps, "frame rate, 1/s"),
+      Field<C>("frames", &C::frames, "number of frames"),
+      Field<C>("speed_m_s", &C::speed_m_s, "mean driving speed, m/s"),
+      Field<C>("speed_variation", &C::speed_variation, "relative amplitude of speed changes"),
+      Field<C>("stop_count", &C::stop_count, "stops during the run"),
+      Field<C>("stop_duration_s", &C::stop_duration_s, "length of each stop, s"),
+      Field<C>("out_and_back", &C::out_and_back, "drive to the far end and back (true/false)"),
+      Field<C>("lateral_offset_m", &C::lateral_offset_m,
+               "amplitude of the offset from the pipe axis, m"),
+      Field<C>("roll_deg", &C::roll_deg, "amplitude of roll about the pipe axis, deg"),
+      Field<C>("wobble_deg", &C::wobble_deg, "amplitude of pitch and yaw wobble, deg"),
+      Field<C>("heading_deg", &C::heading_deg, "amplitude of slow turning (yaw), deg"),
+      Field<C>("wobble_wavelength_m", &C::wobble_wavelength_m,
+               "distance over which offsets and wobble change, m"),
+      Field<C>("seed", &C::seed, "random seed for texture and motion"),
+  });
+  return table;
+}
+
 const std::vector<ConfigKey>& SimulationConfigKeys() {
   static const std::vector<ConfigKey> keys = [] {
     std::vector<ConfigKey> result;
-    for (const KeyEntry& entry : KeyTable()) result.push_back(entry.key);
+    for (const OptionKey<SimulationConfig>& key : SimulationOptionTable().keys()) {
+      result.push_back({key.name.c_str(), key.help.c_str()});
+    }
     return result;
   }();
   return keys;
 }
 
 std::string GetConfigValue(const SimulationConfig& config, const std::string& key) {
-  return std::visit(
-      [&config](auto member) -> std::string {
-        const auto& value = config.*member;
-        using T = std::decay_t<decltype(value)>;
-        if constexpr (std::is_same_v<T, double>) return FormatDouble(value);
-        if constexpr (std::is_same_v<T, bool>) return value ? "true" : "false";
-        if constexpr (std::is_same_v<T, std::string>) return value;
-        if constexpr (std::is_same_v<T, int> || std::is_same_v<T, std::uint64_t>) {
-          return std::to_string(value);
-        }
-      },
-      FindKey(key).member);
+  const nlohmann::json value = FindKey(key).get(config);
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_number_float()) return FormatDouble(value.get<double>());
+  return value.dump();  // integers, true and false
 }
 
 void SetConfigValue(SimulationConfig* config, const std::string& assignment) {
@@ -181,26 +139,9 @@ void SetConfigValue(SimulationConfig* config, const std::string& assignment) {
     throw InputError("--set " + assignment + ": expected key=value");
   }
   const std::string key = assignment.substr(0, equals);
-  const std::string text = assignment.substr(equals + 1);
-  std::visit(
-      [&](auto member) {
-        auto& value = config->*member;
-        using T = std::decay_t<decltype(value)>;
-        if constexpr (std::is_same_v<T, std::string>) {
-          value = text;
-        } else if constexpr (std::is_same_v<T, bool>) {
-          if (text == "true" || text == "1") {
-            value = true;
-          } else if (text == "false" || text == "0") {
-            value = false;
-          } else {
-            throw InputError("--set " + key + "=" + text + ": expected true or false");
-          }
-        } else {
-          value = ParseNumber<T>(key, text);
-        }
-      },
-      FindKey(key).member);
+  // The text as one scalar, read like a --config value (not parsed as YAML).
+  FindKey(key).set(YAML::Node(assignment.substr(equals + 1)),
+                   "--set " + assignment + ": key '" + key + "'", config);
 }
 
 void ValidateConfig(const SimulationConfig& c) {

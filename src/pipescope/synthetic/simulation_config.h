@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "pipescope/io/option_table.h"
+
 namespace pipescope {
 
 // Every setting of a simulated dataset. Presets (presets.h) fill it from the papers' set-ups;
@@ -89,13 +91,18 @@ struct SimulationConfig {
   std::uint64_t seed = 1;
 };
 
-// A settable key: its name, help text and accessors through the key table.
+// Every settable key, declared once (io/option_table.h), in the order --list-presets prints
+// them: what `--set key=value` sets and simulation.yaml records. Checks that involve several keys
+// are ValidateConfig's.
+const OptionTable<SimulationConfig>& SimulationOptionTable();
+
+// A settable key's name and help text.
 struct ConfigKey {
   const char* name;
   const char* help;
 };
 
-// All settable keys, in the order --list-presets prints them.
+// The keys' names and help, in the table's order.
 const std::vector<ConfigKey>& SimulationConfigKeys();
 
 // The value of `key` as text (as --list-presets prints it).
