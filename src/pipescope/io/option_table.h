@@ -221,7 +221,8 @@ void OptionTable<Options>::ApplyYaml(const YAML::Node& root, const std::filesyst
                                      Options* options) const {
   // Every key is checked before any is applied, so an unknown key leaves `options` as it was.
   for (const auto& entry : root) {
-    const std::string name = entry.first.as<std::string>();
+    if (!entry.first.IsScalar()) throw InputError(file.string() + ": a key must be a name");
+    const std::string name = entry.first.Scalar();
     if (!Find(name)) {
       std::string known;
       for (const OptionKey<Options>& key : keys_) known += (known.empty() ? "" : ", ") + key.name;
@@ -230,7 +231,7 @@ void OptionTable<Options>::ApplyYaml(const YAML::Node& root, const std::filesyst
   }
   for (const auto& entry : root) {
     if (entry.second.IsNull()) continue;  // "key:" with no value keeps the default
-    const std::string name = entry.first.as<std::string>();
+    const std::string name = entry.first.Scalar();
     Find(name)->set(entry.second, file.string() + ": key '" + name + "'", options);
   }
 }

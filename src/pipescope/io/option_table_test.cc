@@ -69,7 +69,8 @@ TEST(OptionTable, ErrorsNameTheFileAndTheKeyAndChangeNothing) {
                {"{angle_deg: .nan}", "'angle_deg'"},
                {"{on: maybe}", "'on'"},
                {"{axis: y}", "'axis'"},
-               {"{count: 2, colour: red}", "'colour'"}};
+               {"{count: 2, colour: red}", "'colour'"},
+               {"{[a, b]: 1}", "a key must be a name"}};
   for (const auto& c : cases) {
     TestOptions options;
     const std::string message = InputErrorMessage(

@@ -750,6 +750,150 @@ inline std::uint32_t SectionSeed(std::uint32_t seed_hash, int section) {
   return Hash(seed_hash + static_cast<std::uint32_t>(section) * 0x9E3779B9U);
 }
 
+// ---------------------------------------------------------------------------------------------
+// The layers WallTexture::Sample composes, in its order.
+
+// Where the texture is sampled: h, u = s / C in [0, 1), the circumference, the footprint (as
+// double and float) and the section's seed.
+struct SamplePoint {
+  double h_m;
+  double u;
+  double circumference;
+  double footprint;
+  float fp;
+  std::uint32_t section_seed;
+};
+
+// The albedo and specularity being composed, and how densely pits gather.
+struct SurfaceLayers {
+  float albedo;
+  float specular;
+  float density = 1;
+};
+
+// Rust blotches: a soft threshold on the low octaves; each section rusts to its own degree.
+void AddRust(const MaterialLook& look, const LaneResult& lanes, const SamplePoint& point,
+             SurfaceLayers* layers) {
+  const std::array<float, kNumNoiseLanes>& n = lanes.noise;
+  const float field = 0.5f * n[0] + 0.8f * n[1] + 0.9f * n[2] + 0.5f * n[3] + 0.25f * n[4];
+  const float threshold =
+      look.rust_threshold + 0.4f * (Uniform(Hash(point.section_seed + kSaltRust)) - 0.5f);
+  const float soft = 0.05f + 60 * point.fp;
+  const float rust = SmoothStep(threshold - soft, threshold + soft, field);
+  layers->albedo =
+      Lerp(layers->albedo, look.rust_albedo + 0.5f * lanes.stain + look.rust_roughness * lanes.fine,
+           rust);
+  layers->specular = Lerp(layers->specular, look.specular_rust, rust);
+  layers->density = 0.4f + 2.5f * rust;  // corrosion pits gather in the rust
+}
+
+// Filament winding (two helical families of anisotropic noise) and aggregate speckle (light and
+// dark grains where the millimetre octaves peak).
+void AddWeaveAndAggregate(const MaterialLook& look, const LaneTable& table, const LaneResult& lanes,
+                          const SamplePoint& point, SurfaceLayers* layers) {
+  const std::array<float, kNumNoiseLanes>& n = lanes.noise;
+  if (look.weave_amplitude > 0)
+    layers->albedo += look.weave_amplitude * (n[kWeaveLane] + n[kWeaveLane + 1]);
+  if (look.aggregate_amplitude > 0) {
+    const float field = n[4] + 0.6f * n[5];
+    const float soft = 0.08f + 0.5f * point.fp * static_cast<float>(table.inv_along[4]);
+    const float grains = SmoothStep(0.35f - soft, 0.35f + soft, field) -
+                         0.6f * SmoothStep(0.4f - soft, 0.4f + soft, -field);
+    layers->albedo += look.aggregate_amplitude * grains;
+    layers->density *= 1 + 0.8f * n[2];
+  }
+}
+
+// Corrosion pits darken; scratches lighten or darken and bare the metal.
+void AddPitsAndScratches(const MaterialLook& look, const LaneResult& lanes,
+                         const SamplePoint& point, SurfaceLayers* layers) {
+  for (int g = 0; g < 2; ++g) {
+    const int lane = kPitLane + g;
+    const float pit = PitDarkness(look.pits[g], lanes.cell_hash[lane], lanes.cell_x[lane],
+                                  lanes.cell_y[lane], point.fp, layers->density);
+    layers->albedo *= 1 - pit;
+    layers->specular *= 1 - 0.7f * pit;
+  }
+  for (int g = 0; g < 2; ++g) {
+    const int lane = kScratchLane + g;
+    const float scratch = ScratchValue(look.scratches[g], lanes.cell_hash[lane], lanes.cell_x[lane],
+                                       lanes.cell_y[lane], point.fp);
+    layers->albedo += scratch;
+    if (scratch > 0) {
+      layers->specular = Lerp(layers->specular, look.specular_bare,
+                              Clamp01(scratch / look.scratches[g].amplitude));
+    }
+  }
+}
+
+// A joint at h = k * spacing (after the paint: a gap cuts through it): a girth weld, a bonded
+// flange or a segment gap.
+void AddJoint(const MaterialLook& look, const LaneResult& lanes, const SamplePoint& point,
+              double spacing, double inv_spacing, SurfaceLayers* layers) {
+  const auto dh = static_cast<float>(
+      point.h_m - static_cast<double>(FloorToInt(point.h_m * inv_spacing + 0.5)) * spacing);
+  const float reach =
+      1.3f * look.joint_half_width_m + look.joint_band_half_width_m + 0.005f + point.fp;
+  if (std::abs(dh) < reach) {
+    const float edge = std::max(5e-4f, point.fp);
+    const float band_edge = std::max(0.2f * look.joint_band_half_width_m, point.fp);
+    switch (look.joint_style) {
+      case JointStyle::kWeld: {
+        // A girth weld: a bead of wandering width and position with ripples across it
+        // (chevrons), heat tint beside it. Integer frequencies in u keep it periodic.
+        const float phase = Uniform(Hash(point.section_seed + kSaltWeldPhase));
+        const auto uf = static_cast<float>(point.u);
+        constexpr auto kTwoPiF = static_cast<float>(kTwoPi);
+        const float w0 = look.joint_half_width_m;
+        const float wander = 0.25f * w0 * std::sin(kTwoPiF * (2 * uf + phase));
+        const float width = w0 * (1 + 0.12f * std::sin(kTwoPiF * (3 * uf + 2 * phase)) +
+                                  0.06f * std::sin(kTwoPiF * (7 * uf + 3 * phase)));
+        const float d = std::abs(dh - wander);
+        layers->albedo += look.joint_band_delta *
+                          (1 - SmoothStep(width, width + look.joint_band_half_width_m, d));
+        constexpr double kRipplePitchM = 1.2e-3;
+        const double ripples = Truncate(point.circumference / kRipplePitchM + 0.5);
+        const double ripple_phase = point.u * ripples;
+        const float across = (dh - wander) / width;
+        const float ripple =
+            FootprintWeight(kRipplePitchM, 1 / point.footprint) *
+            std::sin(kTwoPiF * static_cast<float>(ripple_phase - Truncate(ripple_phase)) +
+                     kTwoPiF * 1.2f * across * across);
+        const float bead = 1 - SmoothStep(width - edge, width + edge, d);
+        const float bead_albedo = look.joint_albedo + 0.08f * ripple + 2.0f * lanes.fine +
+                                  0.4f * lanes.stain - 0.05f * across * across;
+        layers->albedo = Lerp(layers->albedo, bead_albedo, bead);
+        layers->specular =
+            Lerp(layers->specular, look.specular_bare * (0.6f + 0.25f * ripple), bead);
+        break;
+      }
+      case JointStyle::kFlange: {
+        // Bonded flange: a band of darker adhesive with a thin dark gap in the middle.
+        const float d = std::abs(dh);
+        layers->albedo +=
+            look.joint_band_delta * (1 - SmoothStep(look.joint_band_half_width_m - band_edge,
+                                                    look.joint_band_half_width_m + band_edge, d));
+        const float gap =
+            1 - SmoothStep(look.joint_half_width_m - edge, look.joint_half_width_m + edge, d);
+        layers->albedo = Lerp(layers->albedo, look.joint_albedo, gap);
+        break;
+      }
+      case JointStyle::kGap: {
+        // Segment joint: a dark gap with ragged edges and a dirty, damp band around it.
+        const float ragged = std::abs(dh + 0.008f * lanes.noise[2] + 0.002f * lanes.noise[3]);
+        layers->albedo += look.joint_band_delta *
+                          (1 - SmoothStep(look.joint_band_half_width_m - band_edge,
+                                          look.joint_band_half_width_m + band_edge, ragged));
+        const float gap =
+            1 - SmoothStep(look.joint_half_width_m - edge, look.joint_half_width_m + edge, ragged);
+        layers->albedo = Lerp(layers->albedo, look.joint_albedo + 0.3f * lanes.fine, gap);
+        layers->specular = Lerp(layers->specular, 0.0f, gap);
+        break;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 WallMaterial WallMaterialFromName(const std::string& name) {
@@ -983,52 +1127,11 @@ WallSample WallTexture::Sample(int section, double h_m, double s_m, double circu
 #else
   EvaluateLanesScalar(table, query, &lanes);
 #endif
-  const std::array<float, kNumNoiseLanes>& n = lanes.noise;
-  const float stain = lanes.stain;
-  const float fine = lanes.fine;
-  float albedo = look.base_albedo + stain;
-  float specular = look.specular_base;
-  float density = 1;  // of pits
-
-  // Rust blotches: a soft threshold on the low octaves; each section rusts to its own degree.
-  if (look.rust_threshold < 10) {
-    const float field = 0.5f * n[0] + 0.8f * n[1] + 0.9f * n[2] + 0.5f * n[3] + 0.25f * n[4];
-    const float threshold =
-        look.rust_threshold + 0.4f * (Uniform(Hash(section_seed + kSaltRust)) - 0.5f);
-    const float soft = 0.05f + 60 * fp;
-    const float rust = SmoothStep(threshold - soft, threshold + soft, field);
-    albedo = Lerp(albedo, look.rust_albedo + 0.5f * stain + look.rust_roughness * fine, rust);
-    specular = Lerp(specular, look.specular_rust, rust);
-    density = 0.4f + 2.5f * rust;  // corrosion pits gather in the rust
-  }
-  // Filament winding: two helical families of anisotropic noise.
-  if (look.weave_amplitude > 0)
-    albedo += look.weave_amplitude * (n[kWeaveLane] + n[kWeaveLane + 1]);
-  // Aggregate speckle: light and dark grains where the millimetre octaves peak.
-  if (look.aggregate_amplitude > 0) {
-    const float field = n[4] + 0.6f * n[5];
-    const float soft = 0.08f + 0.5f * fp * static_cast<float>(table.inv_along[4]);
-    const float grains = SmoothStep(0.35f - soft, 0.35f + soft, field) -
-                         0.6f * SmoothStep(0.4f - soft, 0.4f + soft, -field);
-    albedo += look.aggregate_amplitude * grains;
-    density *= 1 + 0.8f * n[2];
-  }
-  for (int g = 0; g < 2; ++g) {
-    const int lane = kPitLane + g;
-    const float pit = PitDarkness(look.pits[g], lanes.cell_hash[lane], lanes.cell_x[lane],
-                                  lanes.cell_y[lane], fp, density);
-    albedo *= 1 - pit;
-    specular *= 1 - 0.7f * pit;
-  }
-  for (int g = 0; g < 2; ++g) {
-    const int lane = kScratchLane + g;
-    const float scratch = ScratchValue(look.scratches[g], lanes.cell_hash[lane], lanes.cell_x[lane],
-                                       lanes.cell_y[lane], fp);
-    albedo += scratch;
-    if (scratch > 0) {
-      specular = Lerp(specular, look.specular_bare, Clamp01(scratch / look.scratches[g].amplitude));
-    }
-  }
+  const SamplePoint point{h_m, u, circumference, footprint, fp, section_seed};
+  SurfaceLayers layers{look.base_albedo + lanes.stain, look.specular_base};
+  if (look.rust_threshold < 10) AddRust(look, lanes, point, &layers);
+  AddWeaveAndAggregate(look, table, lanes, point, &layers);
+  AddPitsAndScratches(look, lanes, point, &layers);
   // Painted markings, slightly worn. The nearest marking is sought from kMarkingLead letters
   // ahead, so the whole marking lies within one period.
   if (inv_marking_spacing_ > 0) {
@@ -1056,81 +1159,22 @@ WallSample WallTexture::Sample(int section, double h_m, double s_m, double circu
       const float paint =
           MarkingCoverage(section, index, rel, ds, circumference, letter, footprint, &paint_albedo);
       if (paint > 0) {
-        const float wear = 1 - 0.7f * SmoothStep(0.25f, 0.6f, n[3] + n[4] + n[5]);
+        const float wear =
+            1 - 0.7f * SmoothStep(0.25f, 0.6f, lanes.noise[3] + lanes.noise[4] + lanes.noise[5]);
         const float cover = paint * wear;
-        albedo = Lerp(albedo, paint_albedo + 0.3f * fine, cover);
-        specular = Lerp(specular, look.specular_paint, cover);
+        layers.albedo = Lerp(layers.albedo, paint_albedo + 0.3f * lanes.fine, cover);
+        layers.specular = Lerp(layers.specular, look.specular_paint, cover);
       }
     }
   }
 
-  // Joints at h = k * spacing, after the paint: a gap cuts through it.
   if (inv_joint_spacing_ > 0) {
-    const double spacing = options_.joint_spacing_m;
-    const auto dh = static_cast<float>(
-        h_m - static_cast<double>(FloorToInt(h_m * inv_joint_spacing_ + 0.5)) * spacing);
-    const float reach = 1.3f * look.joint_half_width_m + look.joint_band_half_width_m + 0.005f + fp;
-    if (std::abs(dh) < reach) {
-      const float edge = std::max(5e-4f, fp);
-      const float band_edge = std::max(0.2f * look.joint_band_half_width_m, fp);
-      switch (look.joint_style) {
-        case JointStyle::kWeld: {
-          // A girth weld: a bead of wandering width and position with ripples across it
-          // (chevrons), heat tint beside it. Integer frequencies in u keep it periodic.
-          const float phase = Uniform(Hash(section_seed + kSaltWeldPhase));
-          const auto uf = static_cast<float>(u);
-          constexpr auto kTwoPiF = static_cast<float>(kTwoPi);
-          const float w0 = look.joint_half_width_m;
-          const float wander = 0.25f * w0 * std::sin(kTwoPiF * (2 * uf + phase));
-          const float width = w0 * (1 + 0.12f * std::sin(kTwoPiF * (3 * uf + 2 * phase)) +
-                                    0.06f * std::sin(kTwoPiF * (7 * uf + 3 * phase)));
-          const float d = std::abs(dh - wander);
-          albedo += look.joint_band_delta *
-                    (1 - SmoothStep(width, width + look.joint_band_half_width_m, d));
-          constexpr double kRipplePitchM = 1.2e-3;
-          const double ripples = Truncate(circumference / kRipplePitchM + 0.5);
-          const double ripple_phase = u * ripples;
-          const float across = (dh - wander) / width;
-          const float ripple =
-              FootprintWeight(kRipplePitchM, 1 / footprint) *
-              std::sin(kTwoPiF * static_cast<float>(ripple_phase - Truncate(ripple_phase)) +
-                       kTwoPiF * 1.2f * across * across);
-          const float bead = 1 - SmoothStep(width - edge, width + edge, d);
-          const float bead_albedo = look.joint_albedo + 0.08f * ripple + 2.0f * fine +
-                                    0.4f * stain - 0.05f * across * across;
-          albedo = Lerp(albedo, bead_albedo, bead);
-          specular = Lerp(specular, look.specular_bare * (0.6f + 0.25f * ripple), bead);
-          break;
-        }
-        case JointStyle::kFlange: {
-          // Bonded flange: a band of darker adhesive with a thin dark gap in the middle.
-          const float d = std::abs(dh);
-          albedo +=
-              look.joint_band_delta * (1 - SmoothStep(look.joint_band_half_width_m - band_edge,
-                                                      look.joint_band_half_width_m + band_edge, d));
-          const float gap =
-              1 - SmoothStep(look.joint_half_width_m - edge, look.joint_half_width_m + edge, d);
-          albedo = Lerp(albedo, look.joint_albedo, gap);
-          break;
-        }
-        case JointStyle::kGap: {
-          // Segment joint: a dark gap with ragged edges and a dirty, damp band around it.
-          const float ragged = std::abs(dh + 0.008f * n[2] + 0.002f * n[3]);
-          albedo += look.joint_band_delta *
-                    (1 - SmoothStep(look.joint_band_half_width_m - band_edge,
-                                    look.joint_band_half_width_m + band_edge, ragged));
-          const float gap = 1 - SmoothStep(look.joint_half_width_m - edge,
-                                           look.joint_half_width_m + edge, ragged);
-          albedo = Lerp(albedo, look.joint_albedo + 0.3f * fine, gap);
-          specular = Lerp(specular, 0.0f, gap);
-          break;
-        }
-      }
-    }
+    AddJoint(look, lanes, point, options_.joint_spacing_m, inv_joint_spacing_, &layers);
   }
   WallSample sample;
-  sample.albedo = Clamp01(look.base_albedo + contrast_ * (albedo - look.base_albedo));
-  sample.specularity = Clamp01(look.specular_base + contrast_ * (specular - look.specular_base));
+  sample.albedo = Clamp01(look.base_albedo + contrast_ * (layers.albedo - look.base_albedo));
+  sample.specularity =
+      Clamp01(look.specular_base + contrast_ * (layers.specular - look.specular_base));
   return sample;
 }
 
