@@ -31,16 +31,4 @@ YAML::Node FindYamlKey(const YAML::Node& root, const std::string& dotted_key) {
   return node;
 }
 
-void RequireKnownKeys(const YAML::Node& root, const std::filesystem::path& file,
-                      const std::set<std::string>& keys) {
-  if (!root.IsMap()) throw InputError(file.string() + ": expected a map of option keys");
-  for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
-    if (keys.count(key)) continue;
-    std::string valid;
-    for (const std::string& known : keys) valid += (valid.empty() ? "" : ", ") + known;
-    throw InputError(file.string() + ": unknown key '" + key + "' (valid: " + valid + ")");
-  }
-}
-
 }  // namespace pipescope

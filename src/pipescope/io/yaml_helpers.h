@@ -4,7 +4,6 @@
 
 #include <filesystem>
 #include <optional>
-#include <set>
 #include <string>
 
 #include "pipescope/util/error.h"
@@ -13,11 +12,6 @@ namespace pipescope {
 
 // Parses a YAML file; throws InputError naming the file when it is missing or malformed.
 YAML::Node LoadYamlFile(const std::filesystem::path& path);
-
-// Throws InputError naming the file, the key and the valid keys when `root` (a map) has a key
-// outside `keys`, or is not a map.
-void RequireKnownKeys(const YAML::Node& root, const std::filesystem::path& file,
-                      const std::set<std::string>& keys);
 
 // Looks up a dotted key ("pipe.inner_radius_m") below `root`; an undefined node when absent.
 YAML::Node FindYamlKey(const YAML::Node& root, const std::string& dotted_key);

@@ -161,7 +161,7 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   if (!options.overlap_odometry) start_odometry();
   odometry_queue.Close();
   odometry_thread.join();
-  result.stage_times.Add("odometry_wait", wait_timer.ElapsedSeconds(), 0.0);
+  result.stage_times.AddWall("odometry_wait", wait_timer.ElapsedSeconds());
   if (odometry_error) std::rethrow_exception(odometry_error);
   result.stage_times.Merge(odometry_times);
 

@@ -22,11 +22,12 @@ class RunReport {
   void SetMethod(const std::string& method) { method_ = method; }
   void SetOptions(nlohmann::json options) { options_ = std::move(options); }
   void AddTiming(const std::string& name, double seconds) { timings_[name] += seconds; }
-  // Each stage's wall seconds as "PREFIX_STAGE" and its CPU seconds as "PREFIX_STAGE_cpu".
+  // Each stage's wall seconds as "PREFIX_STAGE" and its CPU seconds as "PREFIX_STAGE_cpu" (no
+  // "PREFIX_" for an empty prefix).
   void AddStageTimes(const std::string& prefix, const StageTimes& times) {
-    for (const auto& [stage, seconds] : times.wall()) AddTiming(prefix + "_" + stage, seconds);
-    for (const auto& [stage, seconds] : times.cpu())
-      AddTiming(prefix + "_" + stage + "_cpu", seconds);
+    const std::string start = prefix.empty() ? "" : prefix + "_";
+    for (const auto& [stage, seconds] : times.wall()) AddTiming(start + stage, seconds);
+    for (const auto& [stage, seconds] : times.cpu()) AddTiming(start + stage + "_cpu", seconds);
   }
   void SetCount(const std::string& name, long long value) { counts_[name] = value; }
   void IncrementCount(const std::string& name, long long by = 1) { counts_[name] += by; }

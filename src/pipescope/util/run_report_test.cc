@@ -24,5 +24,30 @@ TEST(RunReport, CollectsCountsTimingsAndWarnings) {
   EXPECT_EQ(report.Count("absent"), 0);
 }
 
+TEST(RunReport, StageTimesGoInAsWallAndCpuTimings) {
+  StageTimes reader;  // another thread's stages, merged
+  reader.Add("read", 0.25, 0.125);
+  StageTimes times;
+  times.Add("read", 0.5, 0.25);
+  times.Merge(reader);
+  times.AddWall("wait", 2.0);
+  const StageClock<> clock;
+  clock.AddTo(&times, "timed");
+  clock.AddTo(nullptr, "nowhere");  // no StageTimes: nothing happens
+  RunReport report("map");
+  report.AddStageTimes("odometry", times);
+  report.AddStageTimes("", times);
+  const nlohmann::json json = report.ToJson();
+  const nlohmann::json& timings = json.at("timings_s");
+  EXPECT_FALSE(timings.contains("_read"));
+  EXPECT_DOUBLE_EQ(timings["odometry_read"].get<double>(), 0.75);
+  EXPECT_DOUBLE_EQ(timings["odometry_read_cpu"].get<double>(), 0.375);
+  EXPECT_DOUBLE_EQ(timings["read"].get<double>(), 0.75);
+  EXPECT_DOUBLE_EQ(timings["wait"].get<double>(), 2.0);
+  EXPECT_FALSE(timings.contains("wait_cpu"));  // waiting has no CPU time to report
+  EXPECT_TRUE(timings.contains("odometry_timed_cpu"));
+  EXPECT_GE(timings["odometry_timed"].get<double>(), 0.0);
+}
+
 }  // namespace
 }  // namespace pipescope

@@ -15,22 +15,17 @@ class StageTimes {
     wall_[stage] += wall_seconds;
     cpu_[stage] += cpu_seconds;
   }
+  // A stage of waiting, which has wall seconds only.
+  void AddWall(const std::string& stage, double wall_seconds) { wall_[stage] += wall_seconds; }
   // Adds every stage of `other` (stages timed on another thread).
   void Merge(const StageTimes& other) {
     for (const auto& [stage, seconds] : other.wall_) wall_[stage] += seconds;
     for (const auto& [stage, seconds] : other.cpu_) cpu_[stage] += seconds;
   }
-  double Wall(const std::string& stage) const { return Lookup(wall_, stage); }
-  double Cpu(const std::string& stage) const { return Lookup(cpu_, stage); }
   const std::map<std::string, double>& wall() const { return wall_; }
   const std::map<std::string, double>& cpu() const { return cpu_; }
 
  private:
-  static double Lookup(const std::map<std::string, double>& times, const std::string& stage) {
-    const auto it = times.find(stage);
-    return it == times.end() ? 0.0 : it->second;
-  }
-
   std::map<std::string, double> wall_;
   std::map<std::string, double> cpu_;
 };
