@@ -2,6 +2,7 @@
 
 #include <ceres/jet.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -42,6 +43,23 @@ Camera::Camera(CameraModelId model_id, int width, int height, std::vector<double
                      (model_id_ == CameraModelId::kFisheyePoly ? "k1" : "fx, fy") + ")");
   }
   max_angle_ = CameraModelMaxAngle(model_id_, params_.data());
+}
+
+double ImageHalfAngleDeg(const Camera& camera) {
+  double widest = 0.0;
+  const int samples = 64;
+  for (int i = 0; i <= samples; ++i) {
+    const double u = (camera.Width() - 1) * i / double(samples);
+    const double v = (camera.Height() - 1) * i / double(samples);
+    for (const Eigen::Vector2d& pixel :
+         {Eigen::Vector2d(u, 0), Eigen::Vector2d(u, camera.Height() - 1), Eigen::Vector2d(0, v),
+          Eigen::Vector2d(camera.Width() - 1, v)}) {
+      Eigen::Vector3d ray;
+      if (!camera.Unproject(pixel, &ray)) continue;
+      widest = std::max(widest, std::atan2(ray.head<2>().norm(), ray.z()));
+    }
+  }
+  return widest * 180.0 / M_PI;
 }
 
 bool Camera::IsInImage(const Eigen::Vector2d& pixel) const {

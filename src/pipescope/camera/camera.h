@@ -66,4 +66,9 @@ class Camera {
   double max_angle_;
 };
 
+// The widest angle, in degrees, between the optical axis and the ray of a pixel on the image's
+// border (pixels outside a fisheye's image circle excluded): 35 for a 70-degree pinhole, 95 for
+// a 190-degree fisheye. What a method needs to know of the set-up it is given.
+double ImageHalfAngleDeg(const Camera& camera);
+
 }  // namespace pipescope

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -339,9 +340,67 @@ bool IsOpenCvStorage(const fs::path& path, const std::string& text) {
          head.starts_with("<opencv_storage") || Lowercase(path.extension().string()) == ".xml";
 }
 
+std::string Short(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+  return buffer;
+}
+
+// A calibration no camera in a pipe can have is refused here, naming the file, instead of
+// giving a map that is wrong by orders of magnitude: the optical axis must meet the image, the
+// focal length must lie within a 0.05x-100x of the image size (fields of view from about 1
+// degree to beyond 360), and the lens must be invertible near the centre and see at least
+// 5 degrees across.
 }  // namespace
 
-Camera ReadCamera(const fs::path& path) {
+void CheckCameraIsPlausible(const fs::path& path, const Camera& camera) {
+  const std::string size = std::to_string(camera.Width()) + "x" + std::to_string(camera.Height());
+  Eigen::Vector2d centre;
+  if (camera.Project(Eigen::Vector3d(0, 0, 1), &centre) != ProjectionStatus::kValid) {
+    throw InputError(path.string() + ": the principal point (" + Short(centre.x()) + ", " +
+                     Short(centre.y()) + ") lies outside the " + size + " image");
+  }
+  const double step = 1e-4;  // radians: the focal length from a small angle off the axis
+  Eigen::Vector2d beside;
+  camera.Project(Eigen::Vector3d(std::tan(step), 0, 1), &beside);
+  const double focal_px = (beside - centre).norm() / step;
+  const double image_px = std::max(camera.Width(), camera.Height());
+  if (!(focal_px >= 0.05 * image_px && focal_px <= 100.0 * image_px)) {
+    throw InputError(path.string() + ": focal length " + Short(focal_px) +
+                     " px is implausible for a " + size + " image (expected " +
+                     Short(0.05 * image_px) + " to " + Short(100.0 * image_px) + " px)");
+  }
+  // Pixels on a grid: those near the principal point must go to rays and back.
+  double widest_deg = 0.0;
+  const double near_px = 0.3 * std::min(camera.Width(), camera.Height());
+  for (int row = 0; row <= 8; ++row) {
+    for (int col = 0; col <= 8; ++col) {
+      const Eigen::Vector2d pixel((camera.Width() - 1) * col / 8.0,
+                                  (camera.Height() - 1) * row / 8.0);
+      Eigen::Vector3d ray;
+      Eigen::Vector2d back;
+      const bool round_trip = camera.Unproject(pixel, &ray) &&
+                              camera.Project(ray, &back) != ProjectionStatus::kBehindCamera &&
+                              (back - pixel).norm() < 0.5;
+      if (round_trip) {
+        widest_deg = std::max(
+            widest_deg, std::acos(std::clamp(ray.normalized().z(), -1.0, 1.0)) * 180.0 / M_PI);
+      } else if ((pixel - centre).norm() < near_px) {
+        throw InputError(path.string() + ": the lens model cannot be inverted at pixel (" +
+                         Short(pixel.x()) + ", " + Short(pixel.y()) +
+                         ") near the image centre; are the distortion coefficients right?");
+      }
+    }
+  }
+  if (widest_deg < 2.5) {
+    throw InputError(path.string() + ": the image sees only " + Short(2 * widest_deg) +
+                     " degrees across; are the focal length and distortion coefficients right?");
+  }
+}
+
+namespace {
+
+Camera ParseCamera(const fs::path& path) {
   const std::string text = ReadTextFile(path);
   if (IsOpenCvStorage(path, text)) return ReadOpenCvStorage(path, text);
   // Const, so that looking up absent keys below cannot insert them.
@@ -360,6 +419,14 @@ Camera ReadCamera(const fs::path& path) {
   if (root["cam0"]) return ReadKalibrCamchain(path, root);
   if (root["camera_matrix"] && !root["model"]) return ReadOpenCvStyleYaml(path, root);
   return ReadPipescopeYaml(path, root);
+}
+
+}  // namespace
+
+Camera ReadCamera(const fs::path& path) {
+  Camera camera = ParseCamera(path);
+  CheckCameraIsPlausible(path, camera);
+  return camera;
 }
 
 void WriteCameraYaml(const fs::path& path, const Camera& camera) {

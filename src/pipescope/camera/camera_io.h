@@ -19,6 +19,12 @@ namespace pipescope {
 // Throws InputError naming the file and the key at fault.
 Camera ReadCamera(const std::filesystem::path& path);
 
+// InputError naming `path` for a calibration no camera in a pipe can have: the principal point
+// outside the image, a focal length beyond 0.05x-100x the image size, a lens model that cannot be
+// inverted near the image centre, or an image that sees less than 5 degrees across. ReadCamera
+// calls it; so does `calibrate` before it writes.
+void CheckCameraIsPlausible(const std::filesystem::path& path, const Camera& camera);
+
 // Writes a pipescope camera.yaml atomically, parameters at full precision.
 void WriteCameraYaml(const std::filesystem::path& path, const Camera& camera);
 

@@ -13,11 +13,13 @@
 
 #include "pipescope/camera/calibration.h"
 #include "pipescope/camera/camera_io.h"
+#include "pipescope/cli/flag_checks.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/median.h"
+#include "pipescope/util/output_paths.h"
 #include "pipescope/util/progress.h"
 
 namespace pipescope {
@@ -28,6 +30,10 @@ namespace fs = std::filesystem;
 // A view whose RMS exceeds this multiple of the median is flagged in the table: a misdetected
 // corner or a blurred image, worth a look.
 constexpr double kSuspectViewFactor = 3.0;
+// Fewer views leave the focal length unconstrained; a larger RMS means the corners were matched
+// to the wrong board (or the images are not of one camera), whatever the fit reports.
+constexpr std::size_t kMinViews = 3;
+constexpr double kMaxRmsPx = 2.0;
 
 struct CalibrateFlags {
   std::string model;
@@ -130,10 +136,22 @@ nlohmann::json ReportJson(const CalibrationResult& result, const CheckerboardSpe
 }
 
 int RunCalibrate(const CalibrateFlags& flags) {
+  const fs::path report_path = flags.report.empty()
+                                   ? fs::path(flags.out).parent_path() / "calibration.json"
+                                   : fs::path(flags.report);
+  if (fs::is_directory(flags.out)) throw InputError("--out " + flags.out + " is a folder");
+  if (fs::is_directory(report_path)) {
+    throw InputError("--report " + report_path.string() + " is a folder; name a .json file");
+  }
+  RefuseOutputOverInputs(report_path, "--report", {{flags.out, "--out"}});
   const CameraModelId model_id = CameraModelFromName(flags.model);
   CheckerboardSpec board = ParseCheckerboardSize(flags.board, "--board");
   board.square_m = flags.square_m;
   const std::vector<fs::path> paths = ExpandImageArguments(flags.images);
+  for (const fs::path& image : paths) {
+    RefuseOutputOverInputs(flags.out, "--out", {{image, "an input image"}});
+    RefuseOutputOverInputs(report_path, "--report", {{image, "an input image"}});
+  }
   spdlog::info("finding {}x{} inner corners in {} images", board.cols, board.rows, paths.size());
   const Detections detections = DetectBoards(paths, board);
   if (!detections.without_board.empty()) {
@@ -147,7 +165,15 @@ int RunCalibrate(const CalibrateFlags& flags) {
                      std::to_string(paths.size()) +
                      " images; --board counts inner corners (COLSxROWS), not squares");
   }
-  if (detections.views.size() < 3) {
+  if (detections.views.size() < kMinViews) {
+    // One or two views leave the focal length free along the viewing direction: the fit
+    // "succeeds" several times off.
+    throw InputError("the " + flags.board + " board was found in only " +
+                     std::to_string(detections.views.size()) + " of the images; at least " +
+                     std::to_string(kMinViews) +
+                     " views are needed (take 15-25, tilted, covering the whole image)");
+  }
+  if (detections.views.size() < 10) {
     spdlog::warn(
         "only {} views of the board: the calibration is poorly constrained; take 15-25 "
         "views, tilted, covering the whole image",
@@ -156,11 +182,16 @@ int RunCalibrate(const CalibrateFlags& flags) {
   const CalibrationResult result = CalibrateCamera(
       model_id, detections.image_size.width, detections.image_size.height, board, detections.views);
   PrintReport(result, detections.views);
+  if (!(result.rms_px <= kMaxRmsPx)) {
+    char rms[32];
+    std::snprintf(rms, sizeof(rms), "%.3g", result.rms_px);
+    throw InputError(std::string("the fit leaves ") + rms +
+                     " px RMS between the board and its image: check --board (inner corners, "
+                     "COLSxROWS) and the images; nothing was written");
+  }
+  CheckCameraIsPlausible("the fitted calibration", result.camera);
 
   WriteCameraYaml(flags.out, result.camera);
-  const fs::path report_path = flags.report.empty()
-                                   ? fs::path(flags.out).parent_path() / "calibration.json"
-                                   : fs::path(flags.report);
   WriteTextFileAtomically(report_path,
                           ReportJson(result, board, detections.views, detections).dump(2) + "\n");
   spdlog::info("wrote {} and {}", flags.out, report_path.string());
@@ -178,7 +209,7 @@ SubcommandRunner SetupCalibrateCommand(CLI::App* command) {
       ->required();
   command->add_option("--square-m", flags->square_m, "Side of a square, metres")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(FinitePositive(10.0));
   command->add_option("images", flags->images, "Images or folders of images of the board")
       ->required();
   command->add_option("--out", flags->out, "camera.yaml to write")->required();

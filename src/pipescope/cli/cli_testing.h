@@ -13,9 +13,13 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs the `pipescope` program built beside the tests (PIPESCOPE_BINARY) with `arguments`.
-inline CommandResult RunPipescope(const std::string& arguments) {
-  const std::string command = std::string(PIPESCOPE_BINARY) + " " + arguments + " 2>&1";
+// Runs the `pipescope` program built beside the tests (PIPESCOPE_BINARY) with `arguments`, in
+// the folder `working_directory` when one is given.
+inline CommandResult RunPipescope(const std::string& arguments,
+                                  const std::string& working_directory = "") {
+  const std::string command =
+      (working_directory.empty() ? "" : "cd " + working_directory + " && ") +
+      std::string(PIPESCOPE_BINARY) + " " + arguments + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "pipescope/cli/flag_checks.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/eval/junction_metrics.h"
 #include "pipescope/eval/metrics_report.h"
@@ -13,6 +14,7 @@
 #include "pipescope/io/trajectory.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
+#include "pipescope/util/output_paths.h"
 
 namespace pipescope {
 namespace {
@@ -31,12 +33,23 @@ int RunEvaluate(const EvaluateFlags& flags) {
   if (flags.scene.empty() != flags.junctions.empty()) {
     throw InputError("flags --scene and --junctions go together: give both or neither");
   }
+  RefuseOutputOverInputs(flags.json, "--json",
+                         {{flags.groundtruth, "--gt"},
+                          {flags.estimate, "--est"},
+                          {flags.scene, "--scene"},
+                          {flags.junctions, "--junctions"}});
   EvaluationOptions options;
   options.alignment = AlignmentFromName(flags.alignment);
   options.max_dt_s = flags.max_dt_s;
   const Trajectory ground_truth = ReadTumTrajectory(flags.groundtruth);
   const Trajectory estimate = ReadTumTrajectory(flags.estimate);
-  Metrics metrics = EvaluateTrajectory(ground_truth, estimate, options);
+  Metrics metrics;
+  try {
+    metrics = EvaluateTrajectory(ground_truth, estimate, options);
+  } catch (const InputError& error) {
+    throw InputError("--gt " + flags.groundtruth + " and --est " + flags.estimate + ": " +
+                     error.what());
+  }
   if (!flags.scene.empty()) {
     metrics.junction_distances = EvaluateJunctionDistances(
         ground_truth, ReadSceneJunctions(flags.scene), ReadEstimatedJunctions(flags.junctions));
@@ -67,7 +80,7 @@ SubcommandRunner SetupEvaluateCommand(CLI::App* command) {
       ->check(CLI::IsMember({"se3", "sim3", "none"}))
       ->capture_default_str();
   command->add_option("--max-dt", flags->max_dt_s, "Timestamp association tolerance, seconds")
-      ->check(CLI::PositiveNumber)
+      ->check(FinitePositive(3600.0))
       ->capture_default_str();
   command->add_option("--json", flags->json, "Write the metrics as JSON to this file");
   return [flags] { return RunEvaluate(*flags); };

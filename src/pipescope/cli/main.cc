@@ -1,5 +1,6 @@
 // pipescope: visual odometry and mapping for in-pipe inspection cameras. This file is the table
 // of subcommands (GUIDE §5); each subcommand lives in its own file.
+#include <glog/logging.h>
 #include <malloc.h>
 #include <spdlog/spdlog.h>
 
@@ -11,6 +12,7 @@
 
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/util/error.h"
+#include "pipescope/util/interruption.h"
 #include "pipescope/util/logging.h"
 #include "pipescope/util/run_report.h"
 
@@ -34,7 +36,25 @@ const Subcommand kSubcommands[] = {
      SetupEvaluateCommand},
 };
 
+// CLI11 answers a mistyped subcommand with "A subcommand is required"; say what was wrong.
+bool IsUnknownSubcommand(int argc, char** argv, std::string* message) {
+  if (argc < 2 || argv[1][0] == '-') return false;
+  std::string names;
+  for (const Subcommand& subcommand : kSubcommands) {
+    if (argv[1] == std::string(subcommand.name)) return false;
+    names += (names.empty() ? "" : ", ") + std::string(subcommand.name);
+  }
+  *message = "unknown subcommand '" + std::string(argv[1]) + "'; the subcommands are " + names +
+             " (pipescope --help)";
+  return true;
+}
+
 int RunMain(int argc, char** argv) {
+  std::string unknown;
+  if (IsUnknownSubcommand(argc, argv, &unknown)) {
+    spdlog::error("{}", unknown);
+    return kExitInputError;
+  }
   CLI::App app{"pipescope: maps pipes from the images of one camera carried through them",
                "pipescope"};
   app.set_version_flag("--version", std::string(PipescopeVersion()));
@@ -71,6 +91,9 @@ int RunMain(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   SetupLogging(quiet ? Verbosity::kQuiet : verbose ? Verbosity::kVerbose : Verbosity::kNormal);
+  // Ceres reports through glog, down to Jacobian dumps of a failed residual; the run's own
+  // messages say what went wrong, so glog speaks only with --verbose.
+  FLAGS_minloglevel = verbose ? google::GLOG_INFO : google::GLOG_FATAL;
   cv::utils::logging::setLogLevel(verbose ? cv::utils::logging::LOG_LEVEL_WARNING
                                           : cv::utils::logging::LOG_LEVEL_ERROR);
   try {
@@ -83,6 +106,9 @@ int RunMain(int argc, char** argv) {
     // the message names the paths.
     spdlog::error("{}", error.what());
     return kExitInputError;
+  } catch (const RunFailedError& error) {
+    spdlog::error("the run failed: {}; no run was written", error.what());
+    return kExitInternalError;
   } catch (const std::exception& error) {
     spdlog::error("internal error: {}", error.what());
     return kExitInternalError;
@@ -92,4 +118,8 @@ int RunMain(int argc, char** argv) {
 }  // namespace
 }  // namespace pipescope
 
-int main(int argc, char** argv) { return pipescope::RunMain(argc, argv); }
+int main(int argc, char** argv) {
+  // First, before OpenCV or Ceres start threads: they must inherit the blocked signals.
+  pipescope::InstallInterruptionHandler();
+  return pipescope::RunMain(argc, argv);
+}

@@ -1,7 +1,6 @@
 // `pipescope map`: fisheye pipe mapping (001 §III A-C), writing a run directory (GUIDE §4):
 // trajectory.tum, keyframes.tum, points_sparse.ply, classification.png, run.json and, with
 // ground truth, metrics.json.
-#include <glog/logging.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -90,14 +89,16 @@ int RunMap(const RunFlags& flags) {
     return kExitSuccess;
   }
   const Timer total;
-  // Ceres logs each rejected Levenberg-Marquardt step of a badly conditioned window as a
-  // warning; the window statistics in run.json say what matters.
-  FLAGS_minloglevel = google::GLOG_ERROR;
   DatasetManifest manifest = OpenRunDataset(flags);
   FisheyeMappingOptions options;
   options.odometry.window.radius_m = RequireInnerRadius(manifest);
   if (!flags.config.empty()) FisheyeMappingOptionTable().ApplyYamlFile(flags.config, &options);
   const Camera camera = ReadCamera(manifest.camera_path);
+  // 001 looks down the pipe through a fisheye: the wall all around, ahead and beside. A narrow
+  // camera sees too little of it to track and gives a map of nothing.
+  RequireCameraView(camera, manifest.camera_path, 60.0, 180.0,
+                    "map needs a forward-looking wide-angle or fisheye camera; for a camera "
+                    "looking at the wall, use pipescope odometry");
   std::optional<Trajectory> ground_truth;
   if (!manifest.groundtruth_path.empty())
     ground_truth = ReadTumTrajectory(manifest.groundtruth_path);
@@ -174,6 +175,11 @@ int RunMap(const RunFlags& flags) {
       "key frame poses are estimated; other frames are interpolated between key frames; the "
       "world frame is the first key frame's camera frame";
 
+  if (result.points.empty()) {
+    throw RunFailedError("no point of the wall was triangulated in " +
+                         std::to_string(result.keyframes.size()) +
+                         " key frames, so the scale and the path are not measured");
+  }
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);
@@ -183,7 +189,9 @@ int RunMap(const RunFlags& flags) {
     filtered.push_back(keyframe.filtered_class);
   }
   run.WriteImage("classification.png", DrawClassificationStrip(initial, filtered));
-  if (ground_truth) run.WriteMetrics(*ground_truth, result.trajectory);
+  if (ground_truth) {
+    run.WriteMetrics(*ground_truth, result.trajectory, manifest.groundtruth_path.string());
+  }
   const double seconds = total.ElapsedSeconds();
   report.Extra("fps_end_to_end") = result.frames / std::max(1e-9, seconds);
   run.Commit();

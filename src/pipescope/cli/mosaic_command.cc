@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "pipescope/camera/camera_io.h"
+#include "pipescope/cli/flag_checks.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/image/undistortion.h"
@@ -22,6 +24,7 @@
 #include "pipescope/mapping/mosaic_io.h"
 #include "pipescope/mapping/unrolled_mosaic.h"
 #include "pipescope/util/error.h"
+#include "pipescope/util/output_paths.h"
 #include "pipescope/util/progress.h"
 
 namespace pipescope {
@@ -66,6 +69,28 @@ bool HasPngExtension(const std::string& path) {
   return extension == ".png";
 }
 
+// An unrolled mosaic must have a few cells around the pipe and fit in memory (a 0.0001 mm cell
+// would ask for terabytes): refused before any frame is read.
+void RequireMosaicSize(double cells_around, double cells_along, double pixel_m,
+                       const std::string& source) {
+  constexpr double kMinCellsAround = 16.0;
+  constexpr double kMaxCells = 4e8;  // 400 megapixels: 1.6 GB of accumulators
+  char message[200];
+  if (cells_around < kMinCellsAround) {
+    std::snprintf(message, sizeof(message),
+                  "%s: %.6g mm cells leave only %.3g cells around the pipe (at least %g needed)",
+                  source.c_str(), 1000.0 * pixel_m, cells_around, kMinCellsAround);
+    throw InputError(message);
+  }
+  if (cells_around * cells_along > kMaxCells) {
+    std::snprintf(message, sizeof(message),
+                  "%s: %.6g mm cells make a %.3g x %.3g cell mosaic, beyond the %g cells this "
+                  "command holds in memory; choose larger cells",
+                  source.c_str(), 1000.0 * pixel_m, cells_along, cells_around, kMaxCells);
+    throw InputError(message);
+  }
+}
+
 int RunMosaic(const MosaicFlags& flags) {
   if (!HasPngExtension(flags.out)) {
     throw InputError("--out " + flags.out + ": the mosaic is written as PNG; name a .png file");
@@ -76,6 +101,9 @@ int RunMosaic(const MosaicFlags& flags) {
   }
   const DatasetManifest manifest = OpenDataset(
       flags.dataset, {.camera_path = flags.camera, .inner_radius_m = flags.radius, .fps = {}});
+  std::vector<NamedInput> inputs = DatasetInputs(flags.dataset, manifest);
+  inputs.push_back({flags.trajectory, "--trajectory"});
+  RefuseOutputOverInputs(flags.out, "--out", inputs);
   const Camera camera = ReadCamera(manifest.camera_path);
   Trajectory trajectory;
   try {
@@ -116,6 +144,8 @@ int RunMosaic(const MosaicFlags& flags) {
       h_max = std::max(h_max, pose.position.z());
     }
     const double margin = 3.0 * radius;  // UnrolledMosaicOptions::max_axial_range_m's default
+    RequireMosaicSize(2.0 * M_PI * radius / pixel_m, (h_max - h_min + 2.0 * margin) / pixel_m,
+                      pixel_m, flags.pixel_mm ? "--pixel-mm" : "the default cell size");
     unrolled_mosaic.emplace(camera, radius, pixel_m, h_min - margin, h_max + margin);
     spdlog::info("unrolled mosaic: r = {:.4f} m, {:.3f} mm cells, {} cells around", radius,
                  1000.0 * pixel_m, unrolled_mosaic->grid().size.height);
@@ -214,20 +244,20 @@ SubcommandRunner SetupMosaicCommand(CLI::App* command) {
       ->add_option("--pixel-mm", flags->pixel_mm,
                    "Unrolled cell size, mm (default 1 / reference_scale_px_per_m, else "
                    "2 pi r / 1024)")
-      ->check(CLI::PositiveNumber);
+      ->check(FiniteRange(1e-3, 1e3));
   command
       ->add_option("--min-spacing-px", flags->min_spacing_px,
                    "Image mode: frames used lie at least this far apart (000 §6.1)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(FiniteNonNegative(1e5))
       ->capture_default_str();
   command
       ->add_option("--max-dt", flags->max_dt_s,
                    "Largest time difference between a frame and its pose, seconds")
-      ->check(CLI::NonNegativeNumber)
+      ->check(FiniteNonNegative(3600.0))
       ->capture_default_str();
   command->add_option("--camera", flags->camera, "Calibration, for a plain image folder");
   command->add_option("--radius", flags->radius, "Pipe inner radius in metres")
-      ->check(CLI::PositiveNumber);
+      ->check(FiniteRange(kMinPipeRadiusM, kMaxPipeRadiusM));
   return [flags] { return RunMosaic(*flags); };
 }
 

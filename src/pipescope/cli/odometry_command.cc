@@ -2,6 +2,7 @@
 // trajectory.tum, mosaic.png, run.json and, with ground truth, metrics.json.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -50,7 +51,8 @@ nlohmann::json FailedFramesJson(const std::vector<FrameRecord>& frames) {
 void WriteMetricsIfGroundTruth(const DatasetManifest& manifest, const Trajectory& trajectory,
                                RunDirectory* run) {
   if (manifest.groundtruth_path.empty()) return;
-  run->WriteMetrics(ReadTumTrajectory(manifest.groundtruth_path), trajectory);
+  run->WriteMetrics(ReadTumTrajectory(manifest.groundtruth_path), trajectory,
+                    manifest.groundtruth_path.string());
 }
 
 // Every --config key of the odometry methods with its default and help (--list-keys).
@@ -67,6 +69,11 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   SparseVoOptions options;
   if (!flags.config.empty()) SparseVoOptionTable().ApplyYamlFile(flags.config, &options);
   const Camera camera = ReadCamera(manifest.camera_path);
+  // 000 §5 looks at the wall through a perspective lens; a fisheye's wall is seen at grazing
+  // angles the cylinder model of the key points does not hold for.
+  RequireCameraView(camera, manifest.camera_path, 0.0, 80.0,
+                    "--method sparse needs a wall-looking camera; a fisheye looking down the "
+                    "pipe is for pipescope map");
   RunDirectory run(flags.out, "odometry", "sparse");
 
   const SparseVoResult result = RunSparseVo(manifest, camera, options);
@@ -114,6 +121,9 @@ int RunSparseOdometry(const OdometryFlags& flags) {
     report.Warn(std::to_string(failed) +
                 " frames could not be localised and have no pose (see failed_frames)");
   }
+  if (result.points.empty()) {
+    throw RunFailedError("no point of the wall was triangulated, so the path is not measured");
+  }
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.key_frames);
   run.WriteSparsePoints(result.points);
@@ -134,6 +144,13 @@ int RunOdometry(const OdometryFlags& flags) {
   }
   if (flags.method.empty()) throw InputError("flag --method is required");
   if (flags.method == "sparse") return RunSparseOdometry(flags);
+  const std::vector<std::string> dense = DenseMethodNames();
+  if (std::find(dense.begin(), dense.end(), flags.method) == dense.end()) {
+    std::string valid;
+    for (const std::string& name : dense) valid += name + ", ";
+    throw InputError("--method: unknown method '" + flags.method + "' (valid: " + valid +
+                     "sparse)");
+  }
   DatasetManifest manifest = OpenRunDataset(flags);
   DenseOdometerOptions options;
   options.method = ParseDenseMethod(flags.method);

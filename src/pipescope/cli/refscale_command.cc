@@ -2,6 +2,7 @@
 // target on the pipe wall (GUIDE §5).
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "pipescope/camera/camera_io.h"
+#include "pipescope/cli/flag_checks.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/image/reference_scale.h"
 #include "pipescope/image/undistortion.h"
@@ -101,6 +103,10 @@ int RunRefscale(const RefscaleFlags& flags) {
   }
 
   // Key: value lines, so scripts can read them.
+  if (!(std::isfinite(scale.px_per_m) && scale.px_per_m > 0.0)) {
+    throw InputError("IMAGE " + flags.image + ": the reference scale came out as " +
+                     std::to_string(scale.px_per_m) + " px/m; check --spacing-m and --camera");
+  }
   std::printf("reference_scale_px_per_m: %.6f\n", scale.px_per_m);
   std::printf("std_error_px_per_m: %.6f  # %.4f %%\n", scale.std_error_px_per_m,
               100.0 * scale.std_error_px_per_m / scale.px_per_m);
@@ -129,7 +135,8 @@ SubcommandRunner SetupRefscaleCommand(CLI::App* command) {
       ->required();
   command->add_option("--grid", flags->grid, "Circles per row x rows, e.g. 5x4")->required();
   command->add_option("--spacing-m", flags->spacing_m, "Centre-to-centre spacing, metres")
-      ->required();
+      ->required()
+      ->check(FinitePositive(10.0));
   command->add_option("--write", flags->write,
                       "Set reference_scale_px_per_m in this dataset.yaml (other keys kept)");
   return [flags] { return RunRefscale(*flags); };

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "pipescope/camera/camera.h"
 #include "pipescope/io/dataset.h"
 
 namespace pipescope {
@@ -15,6 +16,7 @@ struct RunFlags {
   std::string config;
   std::string camera;
   std::optional<double> radius;
+  std::optional<double> fps;
   bool list_keys = false;
 };
 
@@ -24,5 +26,11 @@ void AddRunFlags(CLI::App* command, RunFlags* flags, const std::string& config_h
 // The dataset of a run: InputError naming the dataset argument or --out when either is missing
 // (neither is required by the parser, so that --list-keys works alone).
 DatasetManifest OpenRunDataset(const RunFlags& flags);
+
+// InputError naming `camera_path` unless the camera sees between `min_deg` and `max_deg` off its
+// axis at the image border (ImageHalfAngleDeg): a method given a set-up it cannot measure.
+// `requirement` says what the method needs and what to use instead.
+void RequireCameraView(const Camera& camera, const std::filesystem::path& camera_path,
+                       double min_deg, double max_deg, const std::string& requirement);
 
 }  // namespace pipescope

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "pipescope/cli/flag_checks.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/synthetic/dataset_writer.h"
 #include "pipescope/synthetic/presets.h"
@@ -57,7 +58,10 @@ int RunSimulate(const SimulateFlags& flags) {
   const SimulationSummary summary = SimulateDataset(config, flags.out);
   spdlog::info("wrote {}: {} frames in {:.1f} s ({:.1f} frames/s)", flags.out, summary.frames,
                summary.seconds, summary.frames / summary.seconds);
-  if (summary.route_length_m > 0) spdlog::info("route {:.2f} m", summary.route_length_m);
+  if (summary.route_length_m > 0) {
+    spdlog::info("the camera travels {:.3f} m (the route is {:.2f} m long)", summary.travelled_m,
+                 summary.route_length_m);
+  }
   return kExitSuccess;
 }
 
@@ -68,9 +72,9 @@ SubcommandRunner SetupSimulateCommand(CLI::App* command) {
   command->add_option("--preset", flags->preset, "Preset to render (see --list-presets)");
   command->add_option("--out", flags->out, "Dataset folder to write");
   command->add_option("--frames", flags->frames, "Render only the first N frames")
-      ->check(CLI::PositiveNumber);
+      ->check(FiniteRange(1, 1e8));
   command->add_option("--seed", flags->seed, "Seed for texture, motion and noise")
-      ->check(CLI::NonNegativeNumber);
+      ->check(FiniteRange(0, 4294967295.0));
   command->add_option("--set", flags->assignments, "Override a preset key: key=value")
       ->allow_extra_args(false);
   command->add_flag("--list-presets", flags->list_presets,

@@ -12,7 +12,9 @@
 #include "pipescope/image/undistortion.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/image_source.h"
+#include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
+#include "pipescope/util/output_paths.h"
 #include "pipescope/util/progress.h"
 #include "pipescope/util/staging_directory.h"
 
@@ -28,6 +30,7 @@ struct UndistortFlags {
 int RunUndistort(const UndistortFlags& flags) {
   DatasetManifest manifest =
       OpenDataset(flags.dataset, {.camera_path = flags.camera, .inner_radius_m = {}, .fps = {}});
+  RefuseOutputOverInputs(flags.out, "--out", DatasetInputs(flags.dataset, manifest));
   const Camera camera = ReadCamera(manifest.camera_path);
   const Undistorter undistorter(camera);
   auto source = ImageSource::Open(
@@ -36,6 +39,7 @@ int RunUndistort(const UndistortFlags& flags) {
   std::filesystem::create_directories(staging.path() / "images");
   ProgressBar progress("undistort", source->FrameCount());
   int written = 0;
+  std::string timestamps;  // of the frames written, so a skipped frame leaves its gap in time
   while (std::optional<Frame> frame = source->Next()) {
     cv::Mat rectified;
     undistorter.Apply(frame->grey).convertTo(rectified, CV_8U);
@@ -44,6 +48,9 @@ int RunUndistort(const UndistortFlags& flags) {
     if (!cv::imwrite((staging.path() / "images" / name).string(), rectified)) {
       throw InputError("cannot write " + (staging.path() / "images" / name).string());
     }
+    char time[40];
+    std::snprintf(time, sizeof(time), "%.9f\n", frame->timestamp);
+    timestamps += time;
     progress.Update(++written);
   }
   progress.Finish();
@@ -56,10 +63,10 @@ int RunUndistort(const UndistortFlags& flags) {
   rectified.images_dir = staging.path() / "images";
   rectified.video_path.clear();
   rectified.gain_mask_path.clear();  // the mask is in the distorted image's coordinates
-  if (!source->skipped_frames().empty() && !manifest.timestamps_path.empty()) {
-    // One time per frame no longer holds with frames missing.
-    rectified.timestamps_path.clear();
-    spdlog::warn("{} frames were unreadable: the rectified dataset is timed by fps only",
+  WriteTextFileAtomically(staging.path() / "timestamps.txt", timestamps);
+  rectified.timestamps_path = staging.path() / "timestamps.txt";
+  if (!source->skipped_frames().empty()) {
+    spdlog::warn("{} unreadable frames were left out; timestamps.txt keeps the others' times",
                  source->skipped_frames().size());
   }
   WriteDatasetManifest(staging.path() / "dataset.yaml", rectified);

@@ -144,10 +144,9 @@ Metrics EvaluateTrajectory(const Trajectory& ground_truth, const Trajectory& est
       AssociateByTimestamp(ground_truth, estimate, options.max_dt_s);
   if (pairs.size() < 2) {
     std::ostringstream message;
-    message << "--est: only " << pairs.size()
-            << " estimated poses match a ground-truth pose within " << options.max_dt_s
-            << " s; at least 2 are needed (--gt has " << TimeSpan(ground_truth) << ", --est has "
-            << TimeSpan(estimate) << ")";
+    message << "only " << pairs.size() << " estimated poses match a ground-truth pose within "
+            << options.max_dt_s << " s; at least 2 are needed (the ground truth has "
+            << TimeSpan(ground_truth) << ", the estimate has " << TimeSpan(estimate) << ")";
     throw InputError(message.str());
   }
   MatchedPoses poses;

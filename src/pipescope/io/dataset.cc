@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "pipescope/io/yaml_helpers.h"
@@ -60,6 +61,16 @@ void CheckPositive(double value, const std::string& flag) {
   }
 }
 
+void CheckPipeRadius(double radius_m, const std::string& where) {
+  if (!(radius_m >= kMinPipeRadiusM && radius_m <= kMaxPipeRadiusM)) {
+    char buffer[160];
+    std::snprintf(buffer, sizeof(buffer),
+                  " is %.6g m; a pipe's inner radius lies between %g and %g m (metres, not mm?)",
+                  radius_m, kMinPipeRadiusM, kMaxPipeRadiusM);
+    throw InputError(where + buffer);
+  }
+}
+
 }  // namespace
 
 DatasetManifest ReadDatasetManifest(const std::filesystem::path& manifest_path) {
@@ -82,6 +93,9 @@ DatasetManifest ReadDatasetManifest(const std::filesystem::path& manifest_path) 
     throw InputError(manifest_path.string() + ": key 'fps' is missing (or give 'timestamps')");
   }
   manifest.inner_radius_m = PositiveValue(root, "pipe.inner_radius_m", manifest_path);
+  if (manifest.inner_radius_m)
+    CheckPipeRadius(*manifest.inner_radius_m,
+                    manifest_path.string() + ": key 'pipe.inner_radius_m'");
   manifest.reference_scale_px_per_m =
       PositiveValue(root, "reference_scale_px_per_m", manifest_path);
   manifest.gain_mask_path = ResolvePath(root, "gain_mask", manifest_path, false);
@@ -142,8 +156,10 @@ DatasetManifest OpenDataset(const std::filesystem::path& dataset,
     manifest.images_dir = dataset;
     manifest.fps = kDefaultFolderFps;
     if (!overrides.fps) {
-      spdlog::warn("{} has no dataset.yaml: assuming {} frames per second (give --fps)",
-                   dataset.string(), kDefaultFolderFps);
+      spdlog::warn(
+          "{} has no dataset.yaml: assuming {} frames per second (give --fps, or write a "
+          "dataset.yaml with key 'fps')",
+          dataset.string(), kDefaultFolderFps);
     }
   } else {
     throw InputError("dataset not found: " + dataset.string() +
@@ -156,7 +172,7 @@ DatasetManifest OpenDataset(const std::filesystem::path& dataset,
     manifest.camera_path = overrides.camera_path;
   }
   if (overrides.inner_radius_m) {
-    CheckPositive(*overrides.inner_radius_m, "--radius");
+    CheckPipeRadius(*overrides.inner_radius_m, "flag --radius");
     manifest.inner_radius_m = overrides.inner_radius_m;
   }
   if (overrides.fps) {
@@ -164,6 +180,16 @@ DatasetManifest OpenDataset(const std::filesystem::path& dataset,
     manifest.fps = *overrides.fps;
   }
   return manifest;
+}
+
+std::vector<NamedInput> DatasetInputs(const std::filesystem::path& dataset,
+                                      const DatasetManifest& manifest) {
+  return {{dataset, "the dataset"},
+          {manifest.images_dir, "the dataset's images"},
+          {manifest.video_path, "the dataset's video"},
+          {manifest.camera_path, "the camera calibration"},
+          {manifest.gain_mask_path, "the gain mask"},
+          {manifest.groundtruth_path, "the dataset's ground truth"}};
 }
 
 std::string ManifestName(const DatasetManifest& manifest) {

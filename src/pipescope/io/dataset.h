@@ -3,8 +3,16 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "pipescope/util/output_paths.h"
 
 namespace pipescope {
+
+// The inner radius of a pipe a camera can be carried through. A radius outside is a typo or a
+// unit mistake (millimetres for metres), and is refused rather than mapped into nonsense.
+inline constexpr double kMinPipeRadiusM = 1e-3;
+inline constexpr double kMaxPipeRadiusM = 10.0;
 
 // A dataset directory's manifest, `dataset.yaml` (GUIDE §4). Paths are absolute or relative to
 // the working directory once read: relative paths in the file are resolved against the
@@ -48,6 +56,11 @@ DatasetManifest OpenDataset(const std::filesystem::path& dataset,
 
 // The manifest's path for error messages, or "dataset" when it has none (a plain image folder).
 std::string ManifestName(const DatasetManifest& manifest);
+
+// What a command reads of a dataset (`dataset` as the user named it), for
+// RefuseOutputOverInputs(): the dataset, its images or video, calibration and ground truth.
+std::vector<NamedInput> DatasetInputs(const std::filesystem::path& dataset,
+                                      const DatasetManifest& manifest);
 
 // The pipe radius, or InputError telling the user how to give it.
 double RequireInnerRadius(const DatasetManifest& manifest);

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <sstream>
+#include <string_view>
 
 #include "pipescope/util/error.h"
 
@@ -165,7 +166,17 @@ std::vector<double> ReadTimestampsFile(const std::filesystem::path& path) {
       throw InputError(path.string() + ":" + std::to_string(line_number) +
                        ": expected a time in seconds");
     }
+    if (!timestamps.empty() && !(time > timestamps.back())) {
+      throw InputError(path.string() + ":" + std::to_string(line_number) +
+                       ": times must increase from frame to frame (" +
+                       std::string(line.substr(first, line.find_first_of(" \t\r", first) - first)) +
+                       " follows a time no earlier)");
+    }
     timestamps.push_back(time);
+  }
+  if (timestamps.empty()) {
+    throw InputError("timestamps file " + path.string() +
+                     " holds no times (one time in seconds per frame)");
   }
   return timestamps;
 }
@@ -202,6 +213,7 @@ std::unique_ptr<ImageSource> ImageSource::Open(const DatasetManifest& manifest,
   } else {
     throw InputError("dataset " + manifest.name + " names neither 'images' nor 'video'");
   }
+  source->camera_path_ = manifest.camera_path;
   return source;
 }
 
@@ -251,9 +263,14 @@ std::optional<Frame> ImageSource::Next() {
     if (options_.expected_width > 0 &&
         (raw.cols != options_.expected_width || raw.rows != options_.expected_height)) {
       throw InputError("frame " + name + " is " + std::to_string(raw.cols) + "x" +
-                       std::to_string(raw.rows) + " but the camera calibration is " +
-                       std::to_string(options_.expected_width) + "x" +
-                       std::to_string(options_.expected_height));
+                       std::to_string(raw.rows) + " but the camera calibration " +
+                       camera_path_.string() + " is " + std::to_string(options_.expected_width) +
+                       "x" + std::to_string(options_.expected_height));
+    }
+    if (const std::string flaw = UnusableFrameFlaw(raw, &previous_fingerprint_); !flaw.empty()) {
+      spdlog::warn("skipping frame {}: {}", name, flaw);
+      skipped_frames_.push_back(name);
+      continue;
     }
     Frame frame;
     frame.index = index;
@@ -266,6 +283,30 @@ std::optional<Frame> ImageSource::Next() {
     }
     return frame;
   }
+}
+
+std::string UnusableFrameFlaw(const cv::Mat& raw, std::size_t* previous_fingerprint) {
+  // Every 8th row: enough to tell a frame with an image from one without, at a fraction of a
+  // millisecond.
+  const int rows = (raw.rows + 7) / 8;
+  const cv::Mat sampled(rows, raw.cols, raw.type(), raw.data, raw.step[0] * 8);
+  double low = 0.0, high = 0.0;
+  cv::minMaxLoc(sampled.reshape(1), &low, &high);
+  const double grey_levels = (high - low) * GreyLevelsPerUnit(raw.depth());
+  std::size_t fingerprint = 0;
+  for (int row = 0; row < rows; ++row) {
+    const std::string_view bytes(reinterpret_cast<const char*>(sampled.ptr(row)),
+                                 sampled.cols * sampled.elemSize());
+    fingerprint = fingerprint * 1000003u ^ std::hash<std::string_view>{}(bytes);
+  }
+  const bool duplicate = fingerprint == *previous_fingerprint;
+  *previous_fingerprint = fingerprint;
+  if (grey_levels < 2.0) {
+    return "uniform (" + std::to_string(static_cast<int>(low * GreyLevelsPerUnit(raw.depth()))) +
+           " grey levels everywhere): black, white or no signal";
+  }
+  if (duplicate) return "the same image as the frame before (a repeated frame)";
+  return {};
 }
 
 double SaturatedFraction(const cv::Mat& grey, double level) {

@@ -89,8 +89,15 @@ class ImageSource {
   std::size_t next_index_ = 0;
   std::size_t raw_index_ = 0;  // the next frame ReadNextRaw reads (its thread only)
   std::vector<std::string> skipped_frames_;
+  std::filesystem::path camera_path_;
+  std::size_t previous_fingerprint_ = 0;
   std::future<RawFrame> ahead_;  // the next raw frame, when reading ahead
 };
+
+// Why a decoded frame cannot be used, or "" when it can: uniform (black, white, no signal), or
+// the same image as the frame before (`previous_fingerprint` carries a hash of each frame to the
+// next). Such a frame tells no method anything and would read as "no motion".
+std::string UnusableFrameFlaw(const cv::Mat& raw, std::size_t* previous_fingerprint);
 
 // The factor from a frame's pixel values to 8-bit grey levels: 255 / 65535 for CV_16U, 1 for
 // CV_8U and float.

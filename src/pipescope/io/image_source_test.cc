@@ -12,6 +12,15 @@
 namespace pipescope {
 namespace {
 
+// A test frame of one grey value, with one pixel at the other end of the range so that it is
+// not a uniform frame, which ImageSource skips (a black or white frame has nothing to measure).
+cv::Mat MarkedImage(int rows, int cols, int type, cv::Scalar value) {
+  cv::Mat image(rows, cols, type, value);
+  const double top = CV_MAT_DEPTH(type) == CV_16U ? 65535.0 : 255.0;
+  image(cv::Rect(0, 0, 1, 1)).setTo(cv::Scalar::all(value[0] < top / 2 ? top : 0.0));
+  return image;
+}
+
 DatasetManifest FolderManifest(const std::filesystem::path& dir, double fps) {
   DatasetManifest manifest;
   manifest.name = "test";
@@ -23,9 +32,10 @@ DatasetManifest FolderManifest(const std::filesystem::path& dir, double fps) {
 TEST(ImageSource, StreamsSortedFramesConvertingDepthAndColour) {
   const auto dir = MakeTestDirectory("source_depths");
   // Written out of order: frames come back sorted by file name.
-  cv::imwrite((dir / "frame_002.png").string(), cv::Mat(4, 6, CV_16UC1, cv::Scalar(65535)));
-  cv::imwrite((dir / "frame_000.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(100)));
-  cv::imwrite((dir / "frame_001.tiff").string(), cv::Mat(4, 6, CV_8UC3, cv::Scalar(50, 50, 50)));
+  cv::imwrite((dir / "frame_002.png").string(), MarkedImage(4, 6, CV_16UC1, cv::Scalar(65535)));
+  cv::imwrite((dir / "frame_000.png").string(), MarkedImage(4, 6, CV_8UC1, cv::Scalar(100)));
+  cv::imwrite((dir / "frame_001.tiff").string(),
+              MarkedImage(4, 6, CV_8UC3, cv::Scalar(50, 50, 50)));
   WriteTextFileAtomically(dir / "notes.txt", "not an image");
 
   auto source =
@@ -47,7 +57,7 @@ TEST(ImageSource, NativeDepthAndReadAheadGiveTheSameFrames) {
   const auto dir = MakeTestDirectory("source_native");
   for (int i = 0; i < 5; ++i) {
     cv::imwrite((dir / ("f" + std::to_string(i) + ".png")).string(),
-                cv::Mat(4, 6, i % 2 ? CV_16UC1 : CV_8UC1, cv::Scalar(10 * i + 1)));
+                MarkedImage(4, 6, i % 2 ? CV_16UC1 : CV_8UC1, cv::Scalar(10 * i + 1)));
   }
   auto reference = ImageSource::Open(FolderManifest(dir, 10.0), {.read_ahead = false});
   auto native = ImageSource::Open(FolderManifest(dir, 10.0), {.native_depth = true});
@@ -71,7 +81,7 @@ TEST(ImageSource, WantedFramesOnlyKeepTheirIndicesAndTimestamps) {
   const auto dir = MakeTestDirectory("source_wanted");
   for (int i = 0; i < 5; ++i) {
     cv::imwrite((dir / ("f" + std::to_string(i) + ".png")).string(),
-                cv::Mat(4, 6, CV_8UC1, cv::Scalar(10 * i)));
+                MarkedImage(4, 6, CV_8UC1, cv::Scalar(10 * i)));
   }
   // The unwanted frame 3 is not even decoded: an undecodable file there is not reported.
   WriteTextFileAtomically(dir / "f3.png", "this is not a PNG");
@@ -94,9 +104,9 @@ TEST(ImageSource, WantedFramesOnlyKeepTheirIndicesAndTimestamps) {
 
 TEST(ImageSource, SkipsUnreadableFrameAndKeepsTimestampsOfOthers) {
   const auto dir = MakeTestDirectory("source_corrupt");
-  cv::imwrite((dir / "a.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(1)));
+  cv::imwrite((dir / "a.png").string(), MarkedImage(4, 6, CV_8UC1, cv::Scalar(1)));
   WriteTextFileAtomically(dir / "b.png", "this is not a PNG");
-  cv::imwrite((dir / "c.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(3)));
+  cv::imwrite((dir / "c.png").string(), MarkedImage(4, 6, CV_8UC1, cv::Scalar(3)));
   WriteTextFileAtomically(dir / "times.txt", "# seconds\n0.5\n0.75\n1.25\n");
   DatasetManifest manifest = FolderManifest(dir, 0.0);
   manifest.timestamps_path = dir / "times.txt";
@@ -117,7 +127,7 @@ TEST(ImageSource, BadInputIsInputError) {
   EXPECT_THROW(ImageSource::Open(FolderManifest(empty / "missing", 10.0)), InputError);
 
   const auto dir = MakeTestDirectory("source_size");
-  cv::imwrite((dir / "a.png").string(), cv::Mat(4, 6, CV_8UC1, cv::Scalar(1)));
+  cv::imwrite((dir / "a.png").string(), MarkedImage(4, 6, CV_8UC1, cv::Scalar(1)));
   auto source =
       ImageSource::Open(FolderManifest(dir, 10.0), {.expected_width = 640, .expected_height = 480});
   try {
@@ -141,7 +151,7 @@ TEST(ImageSource, ReadsVideo) {
     cv::VideoWriter writer(video.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 5.0,
                            cv::Size(32, 24), /*isColor=*/true);
     ASSERT_TRUE(writer.isOpened());
-    for (int i = 0; i < 4; ++i) writer.write(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(40 * i)));
+    for (int i = 0; i < 4; ++i) writer.write(MarkedImage(24, 32, CV_8UC3, cv::Scalar::all(40 * i)));
   }
   DatasetManifest manifest;
   manifest.name = "video";
@@ -157,6 +167,34 @@ TEST(ImageSource, ReadsVideo) {
   EXPECT_EQ(count, 4);
   manifest.video_path = dir / "missing.avi";
   EXPECT_THROW(ImageSource::Open(manifest), InputError);
+}
+
+TEST(ImageSource, SkipsUniformAndRepeatedFramesNamingThem) {
+  const auto dir = MakeTestDirectory("source_unusable");
+  cv::Mat texture(48, 64, CV_8UC1);
+  cv::randu(texture, 0, 255);
+  cv::Mat other = texture.clone();
+  cv::flip(texture, other, 1);
+  cv::imwrite((dir / "0.png").string(), texture);
+  cv::imwrite((dir / "1.png").string(), cv::Mat::zeros(48, 64, CV_8UC1));               // black
+  cv::imwrite((dir / "2.png").string(), cv::Mat(48, 64, CV_16UC1, cv::Scalar(65535)));  // white
+  cv::imwrite((dir / "3.png").string(), other);
+  cv::imwrite((dir / "4.png").string(), other);  // repeated
+  cv::imwrite((dir / "5.png").string(), texture);
+  auto source = ImageSource::Open(FolderManifest(dir, 10.0));
+  std::vector<std::size_t> indices;
+  while (std::optional<Frame> frame = source->Next()) indices.push_back(frame->index);
+  EXPECT_EQ(indices, (std::vector<std::size_t>{0, 3, 5}));
+  std::vector<std::string> skipped;
+  for (const std::string& name : source->skipped_frames()) {
+    skipped.push_back(std::filesystem::path(name).filename().string());
+  }
+  EXPECT_EQ(skipped, (std::vector<std::string>{"1.png", "2.png", "4.png"}));
+  std::size_t fingerprint = 0;
+  EXPECT_NE(UnusableFrameFlaw(cv::Mat::zeros(48, 64, CV_8UC1), &fingerprint).find("uniform"),
+            std::string::npos);
+  EXPECT_EQ(UnusableFrameFlaw(texture, &fingerprint), "");
+  EXPECT_NE(UnusableFrameFlaw(texture, &fingerprint).find("same image"), std::string::npos);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "pipescope/report/run_directory.h"
 
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipescope/eval/metrics_report.h"
@@ -8,16 +9,98 @@
 #include "pipescope/mapping/mosaic_io.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
+#include "pipescope/util/median.h"
 
 namespace pipescope {
 
+namespace {
+
+// A run of one command is not replaced by a run of another (`map` over an `odometry` run).
+const std::filesystem::path& RequireSameCommand(const std::filesystem::path& out,
+                                                const std::string& command) {
+  const std::filesystem::path run_json = out / "run.json";
+  if (!std::filesystem::is_regular_file(run_json)) return out;
+  std::string earlier;
+  try {
+    earlier = nlohmann::json::parse(ReadTextFile(run_json)).value("command", "");
+  } catch (const nlohmann::json::exception&) {
+  }
+  if (earlier != command) {
+    throw InputError("--out " + out.string() + " holds " +
+                     (earlier.empty() ? std::string("a run.json of unknown origin")
+                                      : "a `" + earlier + "` run") +
+                     "; refusing to replace it with a `" + command + "` run");
+  }
+  return out;
+}
+
+// Frames whose step goes against the steps on both sides of it, by more than half the median
+// step: a path does not zig-zag for one frame, frames out of order (or a failed registration)
+// do. The turnaround of an out-and-back run reverses once, not for one frame.
+std::vector<double> OneFrameReversals(const Trajectory& trajectory) {
+  std::vector<Eigen::Vector3d> steps;
+  for (std::size_t i = 1; i < trajectory.size(); ++i) {
+    steps.push_back(trajectory[i].position - trajectory[i - 1].position);
+  }
+  std::vector<double> lengths;
+  for (const Eigen::Vector3d& step : steps) lengths.push_back(step.norm());
+  const double median = lengths.empty() ? 0.0 : UpperMedian(lengths);
+  std::vector<double> times;
+  for (std::size_t i = 1; i + 1 < steps.size(); ++i) {
+    if (steps[i].norm() > 0.5 * median && median > 0.0 && steps[i].dot(steps[i - 1]) < 0.0 &&
+        steps[i].dot(steps[i + 1]) < 0.0) {
+      times.push_back(trajectory[i + 1].timestamp);
+    }
+  }
+  return times;
+}
+
+}  // namespace
+
 RunDirectory::RunDirectory(const std::filesystem::path& out, std::string command,
                            std::string method)
-    : staging_(out, "--out", "run.json"), report_(std::move(command)) {
+    : staging_(RequireSameCommand(out, command), "--out", "run.json"), report_(std::move(command)) {
   report_.SetMethod(method);
 }
 
 void RunDirectory::WriteTrajectory(const Trajectory& trajectory) {
+  constexpr double kFarthestM = 1e6;
+  if (trajectory.empty()) throw RunFailedError("no frame was localised");
+  for (const StampedPose& pose : trajectory) {
+    if (!pose.position.allFinite() || !pose.rotation.coeffs().allFinite()) {
+      throw RunFailedError("the pose at time " + std::to_string(pose.timestamp) +
+                           " is not finite: the estimator diverged");
+    }
+    if ((pose.position - trajectory.front().position).norm() > kFarthestM) {
+      throw RunFailedError("the pose at time " + std::to_string(pose.timestamp) +
+                           " lies more than 1000 km from the start: the estimator diverged");
+    }
+  }
+  // Crawlers, robots and tethered cameras move at under a few metres a second; a step faster
+  // than this is an estimate that ran away, not a measurement.
+  constexpr double kFastestMPerS = 20.0;
+  for (std::size_t i = 1; i < trajectory.size(); ++i) {
+    const double step_m = (trajectory[i].position - trajectory[i - 1].position).norm();
+    const double dt_s = trajectory[i].timestamp - trajectory[i - 1].timestamp;
+    if (step_m > kFastestMPerS * std::max(dt_s, 1e-3)) {
+      throw RunFailedError("the camera moves " + std::to_string(step_m) + " m in " +
+                           std::to_string(dt_s) + " s at time " +
+                           std::to_string(trajectory[i].timestamp) +
+                           ": faster than 20 m/s, the estimator diverged");
+    }
+  }
+  const std::vector<double> reversals = OneFrameReversals(trajectory);
+  if (!reversals.empty()) {
+    std::string times;
+    for (std::size_t i = 0; i < std::min<std::size_t>(reversals.size(), 5); ++i) {
+      times += (i == 0 ? "" : ", ") + std::to_string(reversals[i]);
+    }
+    report_.Warn(std::to_string(reversals.size()) +
+                 " frames move against both their neighbours (at t = " + times +
+                 (reversals.size() > 5 ? ", ..." : "") +
+                 " s): are the frames out of order, or did their registration fail?");
+    report_.Extra("reversed_frames_t") = reversals;
+  }
   WriteTumTrajectory(staging_.path() / "trajectory.tum", trajectory);
 }
 
@@ -53,8 +136,17 @@ void RunDirectory::WriteImage(const std::string& name, const cv::Mat& image) {
   WriteTextFileAtomically(staging_.path() / name, std::string(encoded.begin(), encoded.end()));
 }
 
-Metrics RunDirectory::WriteMetrics(const Trajectory& ground_truth, const Trajectory& estimate) {
-  const Metrics metrics = EvaluateTrajectory(ground_truth, estimate, {});
+std::optional<Metrics> RunDirectory::WriteMetrics(const Trajectory& ground_truth,
+                                                  const Trajectory& estimate,
+                                                  const std::string& ground_truth_name) {
+  Metrics metrics;
+  try {
+    metrics = EvaluateTrajectory(ground_truth, estimate, {});
+  } catch (const InputError& error) {
+    report_.Warn("no metrics.json: the trajectory cannot be compared with the ground truth " +
+                 ground_truth_name + ": " + error.what());
+    return std::nullopt;
+  }
   WriteTextFileAtomically(staging_.path() / "metrics.json", MetricsToJson(metrics).dump(2) + "\n");
   std::cout << MetricsToTable(metrics);
   return metrics;

@@ -22,15 +22,16 @@ namespace pipescope {
 // A run that throws before Commit() leaves the target as it was.
 class RunDirectory {
  public:
-  // `out` is the target named by --out; it must be empty, missing, or an earlier run
-  // (run.json), else InputError. `command` and `method` go into run.json.
+  // `out` is the target named by --out; it must be empty, missing, or an earlier run of the
+  // same command (run.json), else InputError. `command` and `method` go into run.json.
   RunDirectory(const std::filesystem::path& out, std::string command, std::string method);
 
   // run.json's contents: options, counts, timings, warnings, extra sections.
   RunReport& report() { return report_; }
   const std::filesystem::path& staging_path() const { return staging_.path(); }
 
-  // trajectory.tum: every frame that was localised.
+  // trajectory.tum: every frame that was localised. A trajectory no run can have (empty, not
+  // finite, or beyond 1000 km from the start) is RunFailedError: the run must not be written.
   void WriteTrajectory(const Trajectory& trajectory);
   // keyframes.tum, for methods with key frames.
   void WriteKeyFrames(const Trajectory& key_frames);
@@ -44,9 +45,12 @@ class RunDirectory {
                    cv::Point2d origin_m);
   // Another image of the run (`name`, e.g. classification.png), written atomically.
   void WriteImage(const std::string& name, const cv::Mat& image);
-  // metrics.json against `ground_truth` (every metric of docs/formats.md), printed as a table
-  // on standard output too. Returns the metrics.
-  Metrics WriteMetrics(const Trajectory& ground_truth, const Trajectory& estimate);
+  // metrics.json against `ground_truth` (every metric of docs/formats.md; `ground_truth_name`
+  // is its file), printed as a table on standard output too. Returns the metrics, or nothing
+  // with a warning when the two cannot be compared (too few poses in common): the run itself is
+  // still written.
+  std::optional<Metrics> WriteMetrics(const Trajectory& ground_truth, const Trajectory& estimate,
+                                      const std::string& ground_truth_name);
 
   // Records the total wall and CPU seconds since construction, writes run.json and moves the
   // run into place.

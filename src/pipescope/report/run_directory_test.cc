@@ -40,7 +40,8 @@ TEST(RunDirectory, CommitPutsTheWholeRunInPlace) {
   mosaic.at<float>(0, 0) = 1.0f;
   run.WriteMosaic(mosaic, "unrolled", 0.001, cv::Point2d(0.2, -0.1));
   // The estimate 1 % long against ground truth.
-  const Metrics metrics = run.WriteMetrics(StraightRun(11, 0.01), StraightRun(11, 0.0101));
+  const Metrics metrics =
+      *run.WriteMetrics(StraightRun(11, 0.01), StraightRun(11, 0.0101), "gt.tum");
   ASSERT_TRUE(metrics.distance_error_pct.has_value());
   EXPECT_NEAR(*metrics.distance_error_pct, 1.0, 1e-9);
   EXPECT_FALSE(std::filesystem::exists(out)) << "nothing in place before Commit()";

@@ -142,6 +142,10 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
   summary.frames = config.frames;
   summary.seconds = timer.ElapsedSeconds();
   summary.route_length_m = layout.route.Length();
+  const Trajectory& frames = simulation.motion().Frames();
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    summary.travelled_m += (frames[i].position - frames[i - 1].position).norm();
+  }
   return summary;
 }
 

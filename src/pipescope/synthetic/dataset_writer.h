@@ -9,8 +9,9 @@ namespace pipescope {
 
 struct SimulationSummary {
   int frames = 0;
-  double seconds = 0.0;  // wall-clock rendering time
-  double route_length_m = 0.0;
+  double seconds = 0.0;         // wall-clock rendering time
+  double route_length_m = 0.0;  // the scene's whole route
+  double travelled_m = 0.0;     // the path the rendered frames cover
 };
 
 // Renders the dataset `config` describes into `out` (GUIDE §4): images/, camera.yaml,
