@@ -180,6 +180,24 @@ int RunMap(const RunFlags& flags) {
                          std::to_string(result.keyframes.size()) +
                          " key frames, so the scale and the path are not measured");
   }
+  // Key frames carry the measurements and the frames between them are interpolated: a key frame
+  // whose relative pose was rejected continued the recent motion, and so did the frames since the
+  // key frame before it.
+  std::vector<FrameState> states(result.frames, FrameState::kMeasured);
+  for (std::size_t k = 1; k < result.keyframes.size(); ++k) {
+    if (!result.keyframes[k].direction_rejected) continue;
+    for (int i = result.keyframes[k - 1].frame_index + 1;
+         i <= result.keyframes[k].frame_index && i < result.frames; ++i) {
+      states[i] = FrameState::kPredicted;
+    }
+  }
+  for (const FisheyeFrameFailure& failure : result.failed_frames) {
+    if (failure.index >= 0 && failure.index < result.frames) {
+      states[failure.index] = FrameState::kNotLocalised;
+    }
+  }
+  states.insert(states.end(), result.unreadable_frames.size(), FrameState::kNotLocalised);
+  run.SetQuality(states);
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

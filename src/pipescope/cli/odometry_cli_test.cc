@@ -57,6 +57,10 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
     EXPECT_EQ(report["options"]["max_departure_from_prediction_px"], 16.0);
     EXPECT_EQ(report["counts"]["pairs_integer_only"], report["integer_only_frames"].size());
     EXPECT_EQ(report["counts"]["frames_localised"], 30);
+    EXPECT_EQ(report["quality"]["verdict"], "reliable") << report["quality"].dump();
+    EXPECT_EQ(report["quality"]["frames_measured"],
+              30 - report["counts"]["pairs_failed"].get<int>());
+    EXPECT_EQ(metrics["quality_verdict"], "reliable");
     EXPECT_TRUE(report["failed_frames"].is_array());
     const cv::Mat mosaic = cv::imread(run + "/mosaic.png", cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(mosaic.empty()) << method;

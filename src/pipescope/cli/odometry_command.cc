@@ -124,6 +124,12 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   if (result.points.empty()) {
     throw RunFailedError("no point of the wall was triangulated, so the path is not measured");
   }
+  std::vector<FrameState> states;
+  for (const SparseFrameRecord& frame : result.frames) {
+    states.push_back(frame.failure.empty() ? FrameState::kMeasured : FrameState::kNotLocalised);
+  }
+  states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
+  run.SetQuality(states);
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.key_frames);
   run.WriteSparsePoints(result.points);
@@ -198,6 +204,12 @@ int RunOdometry(const OdometryFlags& flags) {
                 "velocity (see failed_frames)");
   }
 
+  std::vector<FrameState> states;
+  for (const DenseFrameRecord& frame : result.frames) {
+    states.push_back(frame.failure.empty() ? FrameState::kMeasured : FrameState::kPredicted);
+  }
+  states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
+  run.SetQuality(states);
   run.WriteTrajectory(result.trajectory);
   run.WriteMosaic(result.mosaic, options.method == DenseMethod::kUnrolled ? "unrolled" : "image",
                   result.mosaic_pixel_m, result.mosaic_origin_m);

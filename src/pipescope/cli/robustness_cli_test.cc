@@ -455,6 +455,10 @@ TEST_P(RobustnessCase, ExitsAsPromisedNamesTheCulpritAndLeavesNoDebris) {
         << "expected '" << text << "' in:\n"
         << result.output;
   }
+  // No library chatter (libpng, Ceres's glog) on the terminal.
+  for (const char* chatter : {"libpng", "Jacobian", "GStreamer"}) {
+    EXPECT_EQ(result.output.find(chatter), std::string::npos) << result.output;
+  }
   // No input changed or removed.
   for (const auto& [path, hash] : before) {
     ASSERT_TRUE(fs::exists(path)) << path << " was removed";

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -25,6 +26,24 @@ bool HasImageExtension(const std::filesystem::path& path) {
          extension == ".pgm" || extension == ".ppm";
 }
 
+// Decodes an image file; empty when it cannot be. A PNG without its closing IEND chunk or a JPEG
+// without its end marker is cut short (a copy or a capture that stopped): refused here, before
+// libpng or libjpeg print their complaints over the terminal.
+cv::Mat DecodeImageFile(const std::filesystem::path& file) {
+  std::ifstream stream(file, std::ios::binary);
+  const std::vector<char> bytes((std::istreambuf_iterator<char>(stream)),
+                                std::istreambuf_iterator<char>());
+  if (bytes.size() < 16) return {};
+  const std::string_view all(bytes.data(), bytes.size());
+  if (all.starts_with("\x89PNG") && all.substr(all.size() - 8, 4) != "IEND") return {};
+  if (all.starts_with("\xFF\xD8") &&
+      all.substr(all.size() - std::min<std::size_t>(all.size(), 64)).find("\xFF\xD9") ==
+          std::string_view::npos) {
+    return {};
+  }
+  return cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+}
+
 class FolderImageSource : public ImageSource {
  public:
   FolderImageSource(std::vector<std::filesystem::path> files, std::vector<double> timestamps,
@@ -40,7 +59,7 @@ class FolderImageSource : public ImageSource {
     if (position_ >= files_.size()) return false;
     const std::filesystem::path& file = files_[position_++];
     *name = file.string();
-    if (decode) *image = cv::imread(file.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    if (decode) *image = DecodeImageFile(file);
     return true;
   }
 

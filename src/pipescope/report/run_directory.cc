@@ -1,5 +1,7 @@
 #include "pipescope/report/run_directory.h"
 
+#include <spdlog/spdlog.h>
+
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -147,9 +149,27 @@ std::optional<Metrics> RunDirectory::WriteMetrics(const Trajectory& ground_truth
                  ground_truth_name + ": " + error.what());
     return std::nullopt;
   }
-  WriteTextFileAtomically(staging_.path() / "metrics.json", MetricsToJson(metrics).dump(2) + "\n");
+  nlohmann::json metrics_json = MetricsToJson(metrics);
+  if (quality_) {
+    // Predicted frames are in the trajectory and so in the metrics; say how many.
+    metrics_json["frames_predicted"] = quality_->predicted;
+    metrics_json["frames_not_localised"] = quality_->not_localised;
+    metrics_json["quality_verdict"] = quality_->reliable ? "reliable" : "unreliable";
+  }
+  WriteTextFileAtomically(staging_.path() / "metrics.json", metrics_json.dump(2) + "\n");
   std::cout << MetricsToTable(metrics);
   return metrics;
+}
+
+RunQuality RunDirectory::SetQuality(const std::vector<FrameState>& states) {
+  quality_ = AssessRunQuality(states);
+  report_.Extra("quality") = RunQualityJson(*quality_);
+  if (quality_->reliable) {
+    spdlog::info("{}", RunQualitySummary(*quality_));
+  } else {
+    report_.Warn(RunQualitySummary(*quality_));
+  }
+  return *quality_;
 }
 
 void RunDirectory::Commit() {

@@ -10,6 +10,7 @@
 #include "pipescope/eval/metrics.h"
 #include "pipescope/io/point_cloud_ply.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/report/run_quality.h"
 #include "pipescope/util/run_report.h"
 #include "pipescope/util/staging_directory.h"
 #include "pipescope/util/timer.h"
@@ -52,6 +53,11 @@ class RunDirectory {
   std::optional<Metrics> WriteMetrics(const Trajectory& ground_truth, const Trajectory& estimate,
                                       const std::string& ground_truth_name);
 
+  // The run's quality from each frame's state (report/run_quality.h): the `quality` block of
+  // run.json, a warning when the run is unreliable, the summary line on the terminal, and the
+  // counts in metrics.json (call it before WriteMetrics). Returns the assessment.
+  RunQuality SetQuality(const std::vector<FrameState>& states);
+
   // Records the total wall and CPU seconds since construction, writes run.json and moves the
   // run into place.
   void Commit();
@@ -61,6 +67,7 @@ class RunDirectory {
   ProcessCpuTimer total_cpu_;
   StagingDirectory staging_;
   RunReport report_;
+  std::optional<RunQuality> quality_;
 };
 
 }  // namespace pipescope

@@ -1,0 +1,50 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace pipescope {
+
+// What a run knows of each frame's pose (issue 22: no silent failure).
+enum class FrameState {
+  kMeasured,      // registered: the pose comes from this frame's own measurement
+  kPredicted,     // the measurement failed; the pose continues the recent motion
+  kNotLocalised,  // no pose: unreadable, skipped or not matched
+};
+
+// When a run stops being reliable. A prediction at constant velocity is a guess: a few frames
+// of it cost little, a stretch of them or a share of them makes the distance a guess too.
+struct RunQualityLimits {
+  double max_predicted_share = 0.05;
+  int max_predicted_stretch = 5;  // frames in a row
+  double max_not_localised_share = 0.05;
+};
+
+struct RunQuality {
+  int frames = 0;
+  int measured = 0;
+  int predicted = 0;
+  int not_localised = 0;
+  int longest_predicted_stretch = 0;
+  int longest_stretch_first_frame = -1;  // index into the states, -1 without a stretch
+  std::vector<int> predicted_frames;
+  std::vector<int> not_localised_frames;
+  bool reliable = true;
+  std::vector<std::string> reasons;  // why it is unreliable; empty when reliable
+};
+
+// Counts the states (in frame order) and gives the verdict, with a reason per limit exceeded.
+// Not-localised frames between predicted ones do not break a stretch: the pose after them still
+// rests on the prediction.
+RunQuality AssessRunQuality(const std::vector<FrameState>& states,
+                            const RunQualityLimits& limits = {});
+
+// run.json's `quality` block: counts, shares, the longest stretch, the frame lists, `verdict`
+// ("reliable" or "unreliable") and `reasons`.
+nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits& limits = {});
+
+// The line the user sees: "quality: reliable (...)" or "quality: UNRELIABLE: reasons".
+std::string RunQualitySummary(const RunQuality& quality);
+
+}  // namespace pipescope

@@ -1,0 +1,60 @@
+#include "pipescope/report/run_quality.h"
+
+#include <gtest/gtest.h>
+
+namespace pipescope {
+namespace {
+
+constexpr FrameState M = FrameState::kMeasured;
+constexpr FrameState P = FrameState::kPredicted;
+constexpr FrameState N = FrameState::kNotLocalised;
+
+std::vector<FrameState> Measured(int count) { return std::vector<FrameState>(count, M); }
+
+TEST(RunQuality, AFewScatteredPredictionsAreReliable) {
+  std::vector<FrameState> states = Measured(100);
+  states[10] = states[50] = states[90] = P;
+  states[20] = N;
+  const RunQuality quality = AssessRunQuality(states);
+  EXPECT_TRUE(quality.reliable);
+  EXPECT_EQ(quality.measured, 96);
+  EXPECT_EQ(quality.predicted, 3);
+  EXPECT_EQ(quality.not_localised, 1);
+  EXPECT_EQ(quality.longest_predicted_stretch, 1);
+  EXPECT_EQ(quality.predicted_frames, (std::vector<int>{10, 50, 90}));
+  EXPECT_EQ(RunQualityJson(quality)["verdict"], "reliable");
+}
+
+TEST(RunQuality, AStretchOfPredictionsIsUnreliableAndSaysWhere) {
+  std::vector<FrameState> states = Measured(200);
+  // Six predicted frames in a row, an unreadable one among them: 1.5 % of the frames, but one
+  // guess carried over 7 frames.
+  for (int i = 40; i < 47; ++i) states[i] = P;
+  states[43] = N;
+  const RunQuality quality = AssessRunQuality(states);
+  EXPECT_FALSE(quality.reliable);
+  EXPECT_EQ(quality.longest_predicted_stretch, 6);
+  EXPECT_EQ(quality.longest_stretch_first_frame, 40);
+  ASSERT_EQ(quality.reasons.size(), 1u);
+  EXPECT_NE(quality.reasons[0].find("from frame 40"), std::string::npos) << quality.reasons[0];
+  EXPECT_NE(RunQualitySummary(quality).find("UNRELIABLE"), std::string::npos);
+}
+
+TEST(RunQuality, SharesAboveTheLimitsAreUnreliable) {
+  std::vector<FrameState> states = Measured(100);
+  for (int i = 0; i < 100; i += 10) states[i] = P;  // 10 %, never two in a row
+  for (int i = 5; i < 100; i += 10) states[i] = N;  // 10 %
+  const RunQuality quality = AssessRunQuality(states);
+  EXPECT_FALSE(quality.reliable);
+  EXPECT_EQ(quality.reasons.size(), 2u);
+  EXPECT_EQ(RunQualityJson(quality)["verdict"], "unreliable");
+  EXPECT_DOUBLE_EQ(RunQualityJson(quality)["predicted_share"].get<double>(), 0.1);
+  // At the limits exactly, still reliable.
+  std::vector<FrameState> at_limit = Measured(100);
+  for (int i = 0; i < 5; ++i) at_limit[i * 20] = P;
+  EXPECT_TRUE(AssessRunQuality(at_limit).reliable);
+  EXPECT_FALSE(AssessRunQuality({M, P, P}).reliable);  // fewer than 2 measured
+}
+
+}  // namespace
+}  // namespace pipescope
