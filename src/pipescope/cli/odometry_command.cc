@@ -41,6 +41,7 @@ nlohmann::json FailedFramesJson(const std::vector<FrameRecord>& frames) {
                             {"reason", frame.failure}};
     if constexpr (std::is_same_v<FrameRecord, DenseFrameRecord>) {
       entry["predicted_shift_px"] = {frame.shift.x, frame.shift.y};
+      entry["bridged"] = frame.bridged;
     }
     failed.push_back(std::move(entry));
   }
@@ -199,14 +200,19 @@ int RunOdometry(const OdometryFlags& flags) {
                 "refinement did not converge or moved too far (see integer_only_frames)");
   }
   if (result.failed_pairs > 0) {
-    report.Warn(std::to_string(result.failed_pairs) +
-                " frame pairs failed to register; their motion was predicted at constant "
-                "velocity (see failed_frames)");
+    long long bridged = 0;
+    for (const DenseFrameRecord& frame : result.frames) bridged += frame.bridged ? 1 : 0;
+    report.Warn(std::to_string(result.failed_pairs) + " frame pairs failed to register; " +
+                std::to_string(bridged) +
+                " of them were bridged between the measured frames around them, the others "
+                "predicted at constant velocity (see failed_frames)");
   }
 
   std::vector<FrameState> states;
   for (const DenseFrameRecord& frame : result.frames) {
-    states.push_back(frame.failure.empty() ? FrameState::kMeasured : FrameState::kPredicted);
+    states.push_back(frame.failure.empty() ? FrameState::kMeasured
+                     : frame.bridged       ? FrameState::kBridged
+                                           : FrameState::kPredicted);
   }
   states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
   run.SetQuality(states);

@@ -134,6 +134,9 @@ struct DenseFrameRecord {
   // Why the registration failed and the motion was predicted at constant velocity; empty when
   // it did not (and for the first frame).
   std::string failure;
+  // A failed frame whose pose was then interpolated between the measured frames around it
+  // (estimation/predicted_stretch_bridging.h), not left at the prediction.
+  bool bridged = false;
 };
 
 // The default key-frame spacing of a method, as a fraction of the registered frame (measured on

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "pipescope/estimation/predicted_stretch_bridging.h"
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/mapping/image_mosaic.h"
@@ -108,6 +109,13 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   result.skipped_frames = source->skipped_frames();
   if (result.frames.empty()) {
     throw InputError(ManifestName(manifest) + ": no readable frames");
+  }
+  std::vector<FrameMeasurement> measurements;
+  for (const DenseFrameRecord& frame : result.frames) {
+    measurements.push_back({.predicted = !frame.failure.empty(), .became_key = frame.key_frame});
+  }
+  for (std::size_t k : BridgePredictedStretches(measurements, &result.trajectory)) {
+    result.frames[k].bridged = true;
   }
   if (options.build_mosaic) {
     if (on_unrolled_wall) {

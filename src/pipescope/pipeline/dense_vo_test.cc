@@ -314,6 +314,15 @@ TEST(DenseVo, OneBadFrameCostsOnlyItsOwnPose) {
   EXPECT_FALSE(bad.frames[kBad].failure.empty());
   EXPECT_FALSE(bad.frames[kBad].key_frame);
   EXPECT_TRUE(bad_as_key.frames[kBad].key_frame);
+  // The failed frame lies between two measured ones registered to the same key frame: its pose
+  // is interpolated between them, not left at the constant-velocity prediction; a failed frame
+  // that became the key frame carries its prediction and is left as it is.
+  EXPECT_TRUE(bad.frames[kBad].bridged);
+  EXPECT_FALSE(bad_as_key.frames[kBad].bridged);
+  const double bridged_offset_mm =
+      1000.0 * (bad.trajectory[kBad].position - clean.trajectory[kBad].position).norm();
+  std::printf("failed frame's pose from the clean run's: %.4f mm bridged\n", bridged_offset_mm);
+  EXPECT_LT(bridged_offset_mm, 0.1);
   const auto last_offset_mm = [&](const DenseVoResult& run) {
     return 1000.0 * (run.trajectory.back().position - clean.trajectory.back().position).norm();
   };

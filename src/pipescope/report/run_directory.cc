@@ -98,7 +98,7 @@ void RunDirectory::WriteTrajectory(const Trajectory& trajectory) {
       times += (i == 0 ? "" : ", ") + std::to_string(reversals[i]);
     }
     report_.Warn(std::to_string(reversals.size()) +
-                 " frames move against both their neighbours (at t = " + times +
+                 " frame(s) move against both their neighbours (at t = " + times +
                  (reversals.size() > 5 ? ", ..." : "") +
                  " s): are the frames out of order, or did their registration fail?");
     report_.Extra("reversed_frames_t") = reversals;

@@ -33,6 +33,12 @@ RunQuality AssessRunQuality(const std::vector<FrameState>& states, const RunQual
           quality.longest_stretch_first_frame = stretch_first;
         }
         break;
+      case FrameState::kBridged:
+        // Bounded by measurements on both sides: not a guess carried forward.
+        ++quality.bridged;
+        quality.bridged_frames.push_back(i);
+        stretch = 0;
+        break;
       case FrameState::kNotLocalised:
         ++quality.not_localised;
         quality.not_localised_frames.push_back(i);
@@ -70,12 +76,14 @@ nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits&
           {"frames", quality.frames},
           {"frames_measured", quality.measured},
           {"frames_predicted", quality.predicted},
+          {"frames_bridged", quality.bridged},
           {"frames_not_localised", quality.not_localised},
           {"predicted_share", quality.predicted / frames},
           {"not_localised_share", quality.not_localised / frames},
           {"longest_predicted_stretch", quality.longest_predicted_stretch},
           {"longest_predicted_stretch_first", quality.longest_stretch_first_frame},
           {"predicted_frames", quality.predicted_frames},
+          {"bridged_frames", quality.bridged_frames},
           {"not_localised_frames", quality.not_localised_frames},
           {"limits",
            {{"max_predicted_share", limits.max_predicted_share},
@@ -86,8 +94,8 @@ nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits&
 std::string RunQualitySummary(const RunQuality& quality) {
   if (quality.reliable) {
     return "quality: reliable (" + std::to_string(quality.measured) + " of " +
-           std::to_string(quality.frames) + " frames measured, " +
-           std::to_string(quality.predicted) + " predicted, " +
+           std::to_string(quality.frames) + " frames measured, " + std::to_string(quality.bridged) +
+           " bridged, " + std::to_string(quality.predicted) + " predicted, " +
            std::to_string(quality.not_localised) + " without a pose)";
   }
   std::string reasons;

@@ -10,6 +10,7 @@ namespace pipescope {
 enum class FrameState {
   kMeasured,      // registered: the pose comes from this frame's own measurement
   kPredicted,     // the measurement failed; the pose continues the recent motion
+  kBridged,       // the measurement failed; the pose is interpolated between measured ones
   kNotLocalised,  // no pose: unreadable, skipped or not matched
 };
 
@@ -25,10 +26,12 @@ struct RunQuality {
   int frames = 0;
   int measured = 0;
   int predicted = 0;
+  int bridged = 0;
   int not_localised = 0;
   int longest_predicted_stretch = 0;
   int longest_stretch_first_frame = -1;  // index into the states, -1 without a stretch
   std::vector<int> predicted_frames;
+  std::vector<int> bridged_frames;
   std::vector<int> not_localised_frames;
   bool reliable = true;
   std::vector<std::string> reasons;  // why it is unreliable; empty when reliable
