@@ -424,6 +424,31 @@ std::vector<Case> Catalogue() {
        "refscale {W}/images/000000.png --camera {W}/camera.yaml --grid 5x4 --spacing-m inf",
        2,
        {"--spacing-m"}},
+      {"calibrate_report_folder",
+       [](const fs::path& d) { fs::create_directories(d / "rep"); },
+       "calibrate --model pinhole-radtan --board 9x6 --square-m 0.025 {B}/images --out "
+       "{C}/cam.yaml --report {C}/rep",
+       2,
+       {"--report", "folder"}},
+      {"gainmask_saturated_cards",
+       [](const fs::path& d) {
+         for (const auto& card : fs::directory_iterator(d / "wall/white_card")) {
+           cv::imwrite(card.path().string(), cv::Mat(120, 160, CV_8U, cv::Scalar(255)));
+         }
+       },
+       "gainmask {W}/white_card --out {C}/g.png",
+       0,
+       {"saturated"}},
+      // One frame: the run is written, says it is unreliable, and explains the missing metrics.
+      {"one_frame_dataset",
+       [](const fs::path& d) {
+         for (const auto& image : fs::directory_iterator(d / "wall/images")) {
+           if (image.path().filename() != "000000.png") fs::remove(image.path());
+         }
+       },
+       kDense,
+       0,
+       {"UNRELIABLE", "no metrics.json"}},
       {"unknown_subcommand", NoDamage, "frobnicate", 2, {"frobnicate", "odometry"}},
       // Ranges print short: not 309 digits of the largest double.
       {"simulate_frames_negative",
@@ -478,7 +503,7 @@ TEST_P(RobustnessCase, ExitsAsPromisedNamesTheCulpritAndLeavesNoDebris) {
         ADD_FAILURE() << "left " << entry.path();
       }
     }
-  } else if (c.arguments.find("{O}") != std::string::npos) {
+  } else if (c.arguments.find("--out {O}") != std::string::npos) {
     EXPECT_TRUE(fs::exists(dir / "out" / "run.json"));
     EXPECT_TRUE(fs::exists(dir / "out" / "trajectory.tum"));
   }
