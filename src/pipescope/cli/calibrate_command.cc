@@ -143,7 +143,11 @@ int RunCalibrate(const CalibrateFlags& flags) {
   if (fs::is_directory(report_path)) {
     throw InputError("--report " + report_path.string() + " is a folder; name a .json file");
   }
-  RefuseOutputOverInputs(report_path, "--report", {{flags.out, "--out"}});
+  if (fs::weakly_canonical(fs::absolute(report_path)) ==
+      fs::weakly_canonical(fs::absolute(flags.out))) {
+    throw InputError("--report and --out name the same file, " + flags.out +
+                     ": the report would replace the calibration");
+  }
   const CameraModelId model_id = CameraModelFromName(flags.model);
   CheckerboardSpec board = ParseCheckerboardSize(flags.board, "--board");
   board.square_m = flags.square_m;
