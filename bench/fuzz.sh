@@ -6,12 +6,13 @@
 # Logs, grown corpora and failing inputs (crash-*, timeout-*, oom-*, leak-*) are kept under
 # BUILD_DIR/fuzz-runs/TARGET/.
 # Usage: bench/fuzz.sh [SECONDS_PER_TARGET] [BUILD_DIR]
+#        FUZZ_TARGETS="camera_yaml_fuzzer ..." bench/fuzz.sh ...   (a subset)
 set -euo pipefail
 SECONDS_PER_TARGET=${1:-600}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD_DIR=${2:-$ROOT/build-fuzz}
-TARGETS="manifest_fuzzer camera_yaml_fuzzer tum_fuzzer junctions_fuzzer scene_yaml_fuzzer
-         config_fuzzer"
+TARGETS=${FUZZ_TARGETS:-"manifest_fuzzer camera_yaml_fuzzer tum_fuzzer junctions_fuzzer
+         scene_yaml_fuzzer config_fuzzer"}
 
 # Gently: the machine may be shared, so one core at low priority.
 if [ ! -f "$BUILD_DIR/build.ninja" ]; then
@@ -28,11 +29,12 @@ for target in $TARGETS; do
   name=${target%_fuzzer}
   run="$BUILD_DIR/fuzz-runs/$target"
   rm -rf "$run"
-  mkdir -p "$run/artifacts"
+  mkdir -p "$run/artifacts" "$run/tmp"
   cp -r "$ROOT/fuzz/corpus/$name" "$run/corpus"
   echo "== $target: ${SECONDS_PER_TARGET} s" >&2
   status=0
-  nice -n 15 "$BUILD_DIR/fuzz/$target" "$run/corpus" -max_total_time="$SECONDS_PER_TARGET" \
+  # The targets write their inputs under TMPDIR; keep those files with the run.
+  TMPDIR="$run/tmp" nice -n 15 "$BUILD_DIR/fuzz/$target" "$run/corpus" -max_total_time="$SECONDS_PER_TARGET" \
     -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 -artifact_prefix="$run/artifacts/" \
     >"$run/log.txt" 2>&1 || status=$?
   executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$run/log.txt" | tail -1)
