@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <opencv2/core.hpp>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -243,10 +244,34 @@ Camera CameraFromOpenCvCalibration(const fs::path& path, const OpenCvCalibration
                     calibration.width, calibration.height, std::move(params));
 }
 
+// A calibration's matrices hold a few values (3x3, at most 14 coefficients).
+constexpr int kMaxCvMatrixValues = 64;
+
+// OpenCV allocates an `!!opencv-matrix` of `rows` x `cols` before it counts `data`, so a bad
+// size could ask for any amount of memory: the size must be small and match the data.
+void CheckCvMatrixSize(const fs::path& path, const cv::FileNode& node, const std::string& key) {
+  const cv::FileNode rows = node["rows"];
+  const cv::FileNode cols = node["cols"];
+  const cv::FileNode data = node["data"];
+  if (!rows.isInt() || !cols.isInt() || !data.isSeq()) {
+    FailKey(path, key, "expected a matrix with integers 'rows' and 'cols' and a list 'data'");
+  }
+  const long long count = static_cast<long long>(static_cast<int>(rows)) * static_cast<int>(cols);
+  if (static_cast<int>(rows) < 1 || static_cast<int>(cols) < 1 || count > kMaxCvMatrixValues ||
+      count != static_cast<long long>(data.size())) {
+    FailKey(path, key,
+            "'rows' x 'cols' (" + std::to_string(static_cast<int>(rows)) + " x " +
+                std::to_string(static_cast<int>(cols)) + ") must match the " +
+                std::to_string(data.size()) + " values of 'data' (at most " +
+                std::to_string(kMaxCvMatrixValues) + ")");
+  }
+}
+
 std::vector<double> CvMatrixValues(const fs::path& path, const cv::FileStorage& storage,
                                    const std::string& key) {
   const cv::FileNode node = storage[key];
   if (node.empty() || node.isNone()) FailKey(path, key, "missing");
+  if (node.isMap()) CheckCvMatrixSize(path, node, key);
   try {
     if (node.isSeq()) {
       std::vector<double> values;
@@ -276,28 +301,59 @@ int CvPositiveInt(const fs::path& path, const cv::FileStorage& storage, const st
   return static_cast<int>(value);
 }
 
+// Rejects what OpenCV 4.6's parser would crash on or misread (found by fuzzing): it reads the
+// text only up to a NUL byte, and its XML parser dereferences a null pointer when the text ends
+// inside a tag (right after `name=`). A complete XML file ends after its last tag's '>'.
+void CheckOpenCvStorageText(const fs::path& path, const std::string& text) {
+  if (text.find('\0') != std::string::npos) {
+    throw InputError(path.string() + ": contains a NUL byte; expected a text calibration file");
+  }
+  const std::size_t start = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");  // and a BOM
+  const std::size_t last_open = text.rfind('<');
+  const std::size_t last_close = text.rfind('>');
+  if (start != std::string::npos && text[start] == '<' &&
+      (last_close == std::string::npos || last_close < last_open)) {
+    throw InputError(path.string() + ": the XML ends inside a tag (is the file cut short?)");
+  }
+}
+
 Camera ReadOpenCvStorage(const fs::path& path, const std::string& text) {
+  CheckOpenCvStorageText(path, text);
   cv::FileStorage storage;
   try {
     storage.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& error) {
     throw InputError(path.string() + ": cannot parse as an OpenCV FileStorage file: " + error.err);
+  } catch (const std::length_error& error) {
+    // OpenCV's parser can take a malformed entry for a negative length (found by fuzzing).
+    throw InputError(path.string() +
+                     ": cannot parse as an OpenCV FileStorage file: " + error.what());
   }
   if (!storage.isOpened()) {
     throw InputError(path.string() + ": cannot parse as an OpenCV FileStorage file");
   }
+  // Keys are looked up in the root node, which OpenCV asserts is a mapping (found by fuzzing).
+  if (!storage.root().isMap()) {
+    throw InputError(path.string() +
+                     ": expected an OpenCV FileStorage mapping with key 'camera_matrix'");
+  }
   OpenCvCalibration calibration;
-  calibration.camera_matrix = CvMatrixValues(path, storage, "camera_matrix");
-  calibration.distortion = CvMatrixValues(path, storage, "distortion_coefficients");
-  calibration.width = CvPositiveInt(path, storage, "image_width");
-  calibration.height = CvPositiveInt(path, storage, "image_height");
-  for (const char* key : {"distortion_model", "camera_model"}) {
-    const cv::FileNode node = storage[key];
-    if (node.empty() || node.isNone()) continue;
-    if (!node.isString()) FailKey(path, key, "expected a string");
-    calibration.distortion_model = node.string();
-    calibration.distortion_model_key = key;
-    break;
+  try {
+    calibration.camera_matrix = CvMatrixValues(path, storage, "camera_matrix");
+    calibration.distortion = CvMatrixValues(path, storage, "distortion_coefficients");
+    calibration.width = CvPositiveInt(path, storage, "image_width");
+    calibration.height = CvPositiveInt(path, storage, "image_height");
+    for (const char* key : {"distortion_model", "camera_model"}) {
+      const cv::FileNode node = storage[key];
+      if (node.empty() || node.isNone()) continue;
+      if (!node.isString()) FailKey(path, key, "expected a string");
+      calibration.distortion_model = node.string();
+      calibration.distortion_model_key = key;
+      break;
+    }
+  } catch (const cv::Exception& error) {
+    // OpenCV asserts on the structure it reads; whatever else it rejects is still the file's.
+    throw InputError(path.string() + ": cannot read as an OpenCV FileStorage file: " + error.err);
   }
   return CameraFromOpenCvCalibration(path, calibration);
 }

@@ -4,6 +4,7 @@
 
 #include <opencv2/core.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pipescope/util/atomic_file.h"
@@ -109,6 +110,55 @@ TEST(CameraIo, OpenCvErrorsNameTheKey) {
     storage << "distortion_coefficients" << (cv::Mat_<double>(1, 4) << 0.1, 0, 0, 0);
   }
   ExpectReadErrorNames(dir / "no_width.xml", "image_width");
+}
+
+// Found by fuzzing: OpenCV allocated rows x cols before counting the data, so a large size in
+// the file asked for gigabytes.
+TEST(CameraIo, OpenCvMatrixSizeMustMatchItsData) {
+  const fs::path dir = MakeTestDirectory("camera_io_opencv_matrix_size");
+  const std::string head =
+      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+      "distortion_coefficients: [0.1, 0, 0, 0]\ncamera_matrix: !!opencv-matrix\n";
+  const std::string data = "   dt: d\n   data: [500., 0., 320., 0., 500., 240., 0., 0., 1.]\n";
+  WriteTextFileAtomically(dir / "huge.yaml", head + "   rows: 1000000\n   cols: 1000000\n" + data);
+  ExpectReadErrorNames(dir / "huge.yaml", "camera_matrix");
+  try {
+    ReadCamera(dir / "huge.yaml");
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("'rows' x 'cols'"), std::string::npos) << error.what();
+  }
+  WriteTextFileAtomically(dir / "short.yaml", head + "   rows: 3\n   cols: 4\n" + data);
+  ExpectReadErrorNames(dir / "short.yaml", "camera_matrix");
+  WriteTextFileAtomically(dir / "text.yaml", head + "   rows: three\n   cols: 3\n" + data);
+  ExpectReadErrorNames(dir / "text.yaml", "camera_matrix");
+  WriteTextFileAtomically(dir / "good.yaml", head + "   rows: 3\n   cols: 3\n" + data);
+  EXPECT_EQ(ReadCamera(dir / "good.yaml").Params()[0], 500.0);
+}
+
+// Found by fuzzing: OpenCV's parser threw std::length_error for an empty key after another in a
+// nested map, asserted (cv::Exception) on a key looked up in a top-level list, and crashed on a
+// null pointer for XML that ends after `name=` (a file cut short, or cut at a NUL byte, where
+// OpenCV stops reading).
+TEST(CameraIo, MalformedOpenCvStorageIsAnInputErrorNamingTheFile) {
+  const fs::path dir = MakeTestDirectory("camera_io_opencv_malformed");
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"empty_key.yaml", "%YAML:1.0\n---\ncamera_matrix:\n   rows: 3\n   : 4\n"},
+      {"top_level_list.yaml", "%YAML:1.0\n---\n- 1\n- 2\n"},
+      {"empty.xml", "<?xml version=\"1.0\"?>\n<opencv_storage>\n</opencv_storage>\n"},
+      {"cut_after_equals.xml", "<?xml version=\"1.0\"?>\n<opencv_storage>\n<a type_id=  "},
+      {"cut_in_header.xml", "<?xml version=\n"},
+      {"nul_byte.xml", "<?xml version=" + std::string(1, '\0') + "\"1.0\"?>\n<opencv_storage/>\n"}};
+  for (const auto& [name, text] : files) {
+    SCOPED_TRACE(name);
+    WriteTextFileAtomically(dir / name, text);
+    try {
+      ReadCamera(dir / name);
+      ADD_FAILURE() << "expected InputError";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find((dir / name).string()), std::string::npos)
+          << error.what();
+    }
+  }
 }
 
 TEST(CameraIo, ReadsKalibrCamchains) {

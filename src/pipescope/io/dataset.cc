@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <system_error>
 
 #include "pipescope/io/yaml_helpers.h"
 #include "pipescope/util/atomic_file.h"
@@ -27,8 +28,16 @@ std::filesystem::path ResolvePath(const YAML::Node& root, const std::string& key
   }
   std::filesystem::path path(*value);
   if (path.is_relative()) path = manifest_path.parent_path() / path;
+  // The error_code form: a name too long or a folder that cannot be searched must be the
+  // manifest's error, not a std::filesystem exception that names neither the manifest nor the key.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error && status.type() != std::filesystem::file_type::not_found) {
+    throw InputError(manifest_path.string() + ": key '" + key + "' names " + path.string() +
+                     ", which cannot be looked up: " + error.message());
+  }
   const bool exists =
-      must_be_directory ? std::filesystem::is_directory(path) : std::filesystem::exists(path);
+      must_be_directory ? std::filesystem::is_directory(status) : std::filesystem::exists(status);
   if (!exists) {
     throw InputError(manifest_path.string() + ": key '" + key + "' names " + path.string() +
                      (must_be_directory ? ", which is not a directory" : ", which does not exist"));

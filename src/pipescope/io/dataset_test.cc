@@ -63,6 +63,16 @@ TEST(Dataset, WriteThenReadRoundTrips) {
   EXPECT_DOUBLE_EQ(again.fps, 30.0);
 }
 
+// Found by fuzzing: a path the file system refuses to look up (a name longer than 255 bytes)
+// escaped as std::filesystem::filesystem_error, naming neither the manifest nor the key.
+TEST(Dataset, UnlookupablePathIsAnInputErrorNamingTheKey) {
+  const auto dir = MakeDatasetFolder(
+      "dataset_long_name", "camera: camera.yaml\nimages: images\nfps: 7.5\ngroundtruth: " +
+                               std::string(300, 'g') + "\n");
+  ExpectInputError([&] { ReadDatasetManifest(dir / "dataset.yaml"); },
+                   {"dataset.yaml", "'groundtruth'", "cannot be looked up"});
+}
+
 TEST(Dataset, ErrorsNameFileAndKey) {
   ExpectInputError([] { OpenDataset("/nonexistent/dataset"); }, {"/nonexistent/dataset"});
   const auto missing_camera = MakeDatasetFolder("dataset_nocam", "images: images\nfps: 7.5\n");
