@@ -63,8 +63,9 @@ TEST(Dataset, WriteThenReadRoundTrips) {
   EXPECT_DOUBLE_EQ(again.fps, 30.0);
 }
 
-// Found by fuzzing: a path the file system refuses to look up (a name longer than 255 bytes)
-// escaped as std::filesystem::filesystem_error, naming neither the manifest nor the key.
+// Found while fuzzing the manifest (by reading the paths; manifest_fuzzer reproduces it): a path
+// the file system refuses to look up (a name longer than 255 bytes) escaped as
+// std::filesystem::filesystem_error, naming neither the manifest nor the key.
 TEST(Dataset, UnlookupablePathIsAnInputErrorNamingTheKey) {
   const auto dir = MakeDatasetFolder(
       "dataset_long_name", "camera: camera.yaml\nimages: images\nfps: 7.5\ngroundtruth: " +
