@@ -529,12 +529,13 @@ TEST(Robustness, SkippedFramesKeepTheirTimesThroughUndistort) {
   EXPECT_NEAR(times[10] - times[0], 11.0 * period, 1e-6);
 }
 
-// SIGINT and SIGTERM remove the staging folder, say so, and leave an earlier output whole.
+// SIGINT, SIGTERM and SIGHUP remove the staging folder, say so, and leave an earlier output
+// whole.
 TEST(Robustness, InterruptionRemovesTheStagingFolderAndKeepsTheEarlierOutput) {
   const fs::path dir = MakeTestDirectory("robustness_interrupt");
   fs::create_directories(dir / "sim");
   WriteFile(dir / "sim" / "simulation.yaml", "earlier\n");
-  for (const int signal_number : {SIGINT, SIGTERM}) {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
     const std::string log = (dir / "log.txt").string();
     const pid_t child = fork();
     if (child == 0) {

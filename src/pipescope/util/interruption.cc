@@ -27,8 +27,10 @@ void WaitForSignals(sigset_t signals) {
   int signal_number = 0;
   if (sigwait(&signals, &signal_number) != 0) return;
   std::lock_guard<std::recursive_mutex> lock(Mutex());
-  std::cerr << "\npipescope: interrupted (" << (signal_number == SIGINT ? "SIGINT" : "SIGTERM")
-            << ")";
+  const char* name = signal_number == SIGINT   ? "SIGINT"
+                     : signal_number == SIGHUP ? "SIGHUP"
+                                               : "SIGTERM";
+  std::cerr << "\npipescope: interrupted (" << name << ")";
   for (const std::filesystem::path& path : Registered()) {
     std::error_code ignored;
     std::filesystem::remove_all(path, ignored);
@@ -45,6 +47,7 @@ void InstallInterruptionHandler() {
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGHUP);  // the terminal closed
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   std::thread(WaitForSignals, signals).detach();
 }

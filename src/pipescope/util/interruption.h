@@ -5,7 +5,7 @@
 
 namespace pipescope {
 
-// What a SIGINT or SIGTERM leaves behind: nothing. InstallInterruptionHandler() blocks both
+// What a SIGINT, SIGTERM or SIGHUP leaves behind: nothing. InstallInterruptionHandler() blocks both
 // signals in every thread and waits for them on a thread of its own, which can then do what a
 // signal handler may not (remove folders, log): it removes every path registered below, says so
 // on standard error, and ends the process with status 128 + signal. Call it first in main(),
