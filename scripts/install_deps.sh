@@ -13,7 +13,11 @@ packages=(
   libspdlog-dev      # logging
   libgtest-dev libgmock-dev  # unit tests
   libbenchmark-dev   # kernel benchmarks
+  chromium python3    # report.html's browser test (headless Chromium, scripts/check_report_in_browser.py)
 )
+# report.html's pinned JavaScript libraries come from the npm registry through npm (`npm ci` at
+# configure time); Debian's npm only where the machine has none.
+command -v npm >/dev/null || packages+=(nodejs npm)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <opencv2/core/utils/logger.hpp>
 #include <string>
+#include <vector>
 
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/util/error.h"
@@ -20,6 +21,8 @@ namespace pipescope {
 namespace {
 
 const Subcommand kSubcommands[] = {
+    {"demo", "Simulate a short pipe, run odometry, write the report and print where it is",
+     SetupDemoCommand},
     {"simulate", "Render a simulated pipe dataset with exact ground truth", SetupSimulateCommand},
     {"odometry", "Visual odometry down a straight pipe (dense: 000 §4, 003 §2)",
      SetupOdometryCommand},
@@ -34,6 +37,9 @@ const Subcommand kSubcommands[] = {
      SetupRefscaleCommand},
     {"evaluate", "Compare an estimated trajectory with ground truth (metrics.json)",
      SetupEvaluateCommand},
+    {"report", "Write report.html of a run directory", SetupReportCommand},
+    {"locate", "Where a pixel of a frame lies on the wall: distance and clock position",
+     SetupLocateCommand},
 };
 
 // CLI11 answers a mistyped subcommand with "A subcommand is required"; say what was wrong.
@@ -116,6 +122,15 @@ int RunMain(int argc, char** argv) {
 }
 
 }  // namespace
+
+int RunCommandLine(const std::vector<std::string>& args) {
+  std::vector<std::string> copies = args;
+  std::vector<char*> argv;
+  for (std::string& arg : copies) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  return RunMain(static_cast<int>(copies.size()), argv.data());
+}
+
 }  // namespace pipescope
 
 int main(int argc, char** argv) {

@@ -103,6 +103,8 @@ int RunMap(const RunFlags& flags) {
   if (!manifest.groundtruth_path.empty())
     ground_truth = ReadTumTrajectory(manifest.groundtruth_path);
   RunDirectory run(flags.out, "map", "fisheye-sba-cylinder");
+  run.SetDataset(manifest);
+  run.SetWriteReport(!flags.no_report);
 
   const FisheyeMappingResult result = RunFisheyeMapping(manifest, camera, options);
   if (result.keyframes.empty()) {

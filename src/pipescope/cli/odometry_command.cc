@@ -76,6 +76,8 @@ int RunSparseOdometry(const OdometryFlags& flags) {
                     "--method sparse needs a wall-looking camera; a fisheye looking down the "
                     "pipe is for pipescope map");
   RunDirectory run(flags.out, "odometry", "sparse");
+  run.SetDataset(manifest);
+  run.SetWriteReport(!flags.no_report);
 
   const SparseVoResult result = RunSparseVo(manifest, camera, options);
 
@@ -164,6 +166,8 @@ int RunOdometry(const OdometryFlags& flags) {
   if (!flags.config.empty()) DenseVoOptionTable().ApplyYamlFile(flags.config, &options);
   const Camera camera = ReadCamera(manifest.camera_path);
   RunDirectory run(flags.out, "odometry", DenseMethodName(options.method));
+  run.SetDataset(manifest);
+  run.SetWriteReport(!flags.no_report);
 
   const DenseVoResult result = RunDenseVo(manifest, camera, options);
 

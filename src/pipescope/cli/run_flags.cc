@@ -17,6 +17,8 @@ void AddRunFlags(CLI::App* command, RunFlags* flags, const std::string& config_h
       ->check(FiniteRange(kMinPipeRadiusM, kMaxPipeRadiusM));
   command->add_option("--fps", flags->fps, "Frame rate of a plain image folder (default 30)")
       ->check(FinitePositive(1e5));
+  command->add_flag("--no-report", flags->no_report,
+                    "Do not write report.html (pipescope report RUN writes it later)");
   command->add_flag("--list-keys", flags->list_keys,
                     "Print every --config key with its default, range and help");
 }

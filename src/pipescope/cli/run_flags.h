@@ -18,6 +18,7 @@ struct RunFlags {
   std::optional<double> radius;
   std::optional<double> fps;
   bool list_keys = false;
+  bool no_report = false;
 };
 
 // Adds the run flags to `command`; `config_help` describes --config.

@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace pipescope {
 
@@ -26,5 +28,12 @@ SubcommandRunner SetupCalibrateCommand(CLI::App* command);
 SubcommandRunner SetupOdometryCommand(CLI::App* command);
 SubcommandRunner SetupMosaicCommand(CLI::App* command);
 SubcommandRunner SetupMapCommand(CLI::App* command);
+SubcommandRunner SetupReportCommand(CLI::App* command);
+SubcommandRunner SetupLocateCommand(CLI::App* command);
+SubcommandRunner SetupDemoCommand(CLI::App* command);
+
+// Runs a whole command line (`args[0]` is the program's name) as main() would and returns its
+// exit status: how `demo` chains the other subcommands.
+int RunCommandLine(const std::vector<std::string>& args);
 
 }  // namespace pipescope

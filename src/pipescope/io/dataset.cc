@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 #include <system_error>
+#include <vector>
 
 #include "pipescope/io/yaml_helpers.h"
 #include "pipescope/util/atomic_file.h"
@@ -52,6 +53,21 @@ std::optional<double> PositiveValue(const YAML::Node& root, const std::string& k
     throw InputError(manifest_path.string() + ": key '" + key + "' must be a positive number");
   }
   return value;
+}
+
+// pipe.up: three finite numbers, not all zero; returned with unit length.
+std::optional<Eigen::Vector3d> UpVector(const YAML::Node& root,
+                                        const std::filesystem::path& manifest_path) {
+  const auto values = OptionalYamlValue<std::vector<double>>(root, "pipe.up", manifest_path);
+  if (!values) return std::nullopt;
+  const Eigen::Vector3d up = values->size() == 3
+                                 ? Eigen::Vector3d((*values)[0], (*values)[1], (*values)[2])
+                                 : Eigen::Vector3d::Zero();
+  if (!up.allFinite() || up.norm() < 1e-9) {
+    throw InputError(manifest_path.string() +
+                     ": key 'pipe.up' must be three finite numbers, not all zero, e.g. [0, -1, 0]");
+  }
+  return up.normalized();
 }
 
 std::string RelativeToManifest(const std::filesystem::path& path,
@@ -105,6 +121,7 @@ DatasetManifest ReadDatasetManifest(const std::filesystem::path& manifest_path) 
   if (manifest.inner_radius_m)
     CheckPipeRadius(*manifest.inner_radius_m,
                     manifest_path.string() + ": key 'pipe.inner_radius_m'");
+  manifest.pipe_up = UpVector(root, manifest_path);
   manifest.reference_scale_px_per_m =
       PositiveValue(root, "reference_scale_px_per_m", manifest_path);
   manifest.gain_mask_path = ResolvePath(root, "gain_mask", manifest_path, false);
@@ -136,9 +153,16 @@ void WriteDatasetManifest(const std::filesystem::path& manifest_path,
   for (const auto& [key, path] : optional_paths) {
     if (!path->empty()) out << YAML::Key << key << YAML::Value << RelativeToManifest(*path, dir);
   }
-  if (manifest.inner_radius_m) {
-    out << YAML::Key << "pipe" << YAML::Value << YAML::BeginMap << YAML::Key << "inner_radius_m"
-        << YAML::Value << *manifest.inner_radius_m << YAML::EndMap;
+  if (manifest.inner_radius_m || manifest.pipe_up) {
+    out << YAML::Key << "pipe" << YAML::Value << YAML::BeginMap;
+    if (manifest.inner_radius_m)
+      out << YAML::Key << "inner_radius_m" << YAML::Value << *manifest.inner_radius_m;
+    if (manifest.pipe_up) {
+      out << YAML::Key << "up" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (int i = 0; i < 3; ++i) out << (*manifest.pipe_up)[i];
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
   }
   if (manifest.reference_scale_px_per_m) {
     out << YAML::Key << "reference_scale_px_per_m" << YAML::Value

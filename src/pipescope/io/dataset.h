@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -25,7 +26,10 @@ struct DatasetManifest {
   std::filesystem::path video_path;
   double fps = 0.0;  // used when there is no timestamps file
   std::filesystem::path timestamps_path;
-  std::optional<double> inner_radius_m;            // pipe.inner_radius_m
+  std::optional<double> inner_radius_m;  // pipe.inner_radius_m
+  // pipe.up: the pipe frame's "up" (12 o'clock, GUIDE §4), a unit vector in the frame of the
+  // ground truth and of straight-pipe trajectories. Unset: the camera's upright at the first frame.
+  std::optional<Eigen::Vector3d> pipe_up;
   std::optional<double> reference_scale_px_per_m;  // 000 §3.3, dense methods
   std::filesystem::path gain_mask_path;
   std::filesystem::path groundtruth_path;

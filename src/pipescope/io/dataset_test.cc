@@ -53,6 +53,7 @@ TEST(Dataset, WriteThenReadRoundTrips) {
   manifest.name = "written";
   manifest.inner_radius_m = 0.19378;
   manifest.groundtruth_path = dir / "groundtruth.tum";
+  manifest.pipe_up = Eigen::Vector3d(0.0, 0.6, -0.8);
   WriteDatasetManifest(dir / "dataset.yaml", manifest);
   const std::string text = ReadTextFile(dir / "dataset.yaml");
   EXPECT_NE(text.find("camera: camera.yaml"), std::string::npos) << text;
@@ -61,6 +62,22 @@ TEST(Dataset, WriteThenReadRoundTrips) {
   EXPECT_DOUBLE_EQ(*again.inner_radius_m, 0.19378);
   EXPECT_EQ(again.groundtruth_path, dir / "groundtruth.tum");
   EXPECT_DOUBLE_EQ(again.fps, 30.0);
+  ASSERT_TRUE(again.pipe_up.has_value());
+  EXPECT_LT((*again.pipe_up - Eigen::Vector3d(0.0, 0.6, -0.8)).norm(), 1e-12);
+}
+
+TEST(Dataset, PipeUpIsNormalisedAndCheckedNamingTheKey) {
+  const auto dir = MakeDatasetFolder(
+      "dataset_up", "camera: camera.yaml\nimages: images\nfps: 7.5\npipe:\n  up: [0, -2, 0]\n");
+  const DatasetManifest manifest = OpenDataset(dir);
+  ASSERT_TRUE(manifest.pipe_up.has_value());
+  EXPECT_EQ(*manifest.pipe_up, Eigen::Vector3d(0.0, -1.0, 0.0));
+  for (const std::string up : {"[0, 0, 0]", "[1, 2]", "[.nan, 1, 0]", "up"}) {
+    const auto bad = MakeDatasetFolder(
+        "dataset_bad_up",
+        "camera: camera.yaml\nimages: images\nfps: 7.5\npipe:\n  up: " + up + "\n");
+    ExpectInputError([&] { OpenDataset(bad); }, {"dataset.yaml", "pipe.up"});
+  }
 }
 
 // Found while fuzzing the manifest (by reading the paths; manifest_fuzzer reproduces it): a path

@@ -18,4 +18,15 @@ void WritePlyPoints(const std::filesystem::path& path, const std::vector<Eigen::
                     const std::vector<PlyColour>& colours = {},
                     const std::string& comment = "pipescope point cloud, metres, pipe frame");
 
+// A point cloud read back: positions and, when the file has red/green/blue, one colour each.
+struct PlyPoints {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<PlyColour> colours;
+};
+
+// Reads an ASCII PLY point cloud whose vertex element has x, y, z (float or double) and
+// optionally red, green, blue (uchar), in any order with other scalar properties. Throws
+// InputError naming the file for another format or a malformed line.
+PlyPoints ReadPlyPoints(const std::filesystem::path& path);
+
 }  // namespace pipescope

@@ -2,13 +2,17 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipescope/eval/metrics_report.h"
 #include "pipescope/eval/trajectory_metrics.h"
+#include "pipescope/geometry/clock_position.h"
 #include "pipescope/mapping/mosaic_io.h"
+#include "pipescope/report/report_page.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/median.h"
@@ -61,8 +65,85 @@ std::vector<double> OneFrameReversals(const Trajectory& trajectory) {
 
 RunDirectory::RunDirectory(const std::filesystem::path& out, std::string command,
                            std::string method)
-    : staging_(RequireSameCommand(out, command), "--out", "run.json"), report_(std::move(command)) {
+    : staging_(RequireSameCommand(out, command), "--out", "run.json"),
+      report_(command),
+      command_(command) {
   report_.SetMethod(method);
+}
+
+void RunDirectory::SetDataset(const DatasetManifest& manifest) {
+  dataset_ = manifest;
+  const auto absolute = [](const std::filesystem::path& path) {
+    return path.empty() ? nlohmann::json(nullptr)
+                        : nlohmann::json(std::filesystem::absolute(path).string());
+  };
+  report_.Extra("inputs") = {
+      {"dataset",
+       absolute(manifest.manifest_path.empty() ? manifest.images_dir : manifest.manifest_path)},
+      {"images", absolute(manifest.images_dir)},
+      {"video", absolute(manifest.video_path)},
+      {"camera", absolute(manifest.camera_path)},
+      {"groundtruth", absolute(manifest.groundtruth_path)},
+      {"scene", absolute(manifest.scene_path)},
+      {"radius_m", manifest.inner_radius_m ? nlohmann::json(*manifest.inner_radius_m)
+                                           : nlohmann::json(nullptr)}};
+  std::filesystem::copy_file(manifest.camera_path, staging_.path() / "camera.yaml",
+                             std::filesystem::copy_options::overwrite_existing);
+}
+
+void RunDirectory::WriteStations(const Trajectory& trajectory) {
+  StationOptions options;
+  options.line = command_ == "map" ? SurveyLine::kTravelledPath : SurveyLine::kStraightAxis;
+  const Eigen::Matrix3d first_rotation = trajectory.front().rotation.toRotationMatrix();
+  std::string up_source;
+  if (dataset_->pipe_up && options.line == SurveyLine::kStraightAxis) {
+    options.up = *dataset_->pipe_up;
+    up_source = "pipe.up of the dataset";
+  } else if (dataset_->pipe_up && !dataset_->groundtruth_path.empty()) {
+    // A map's frame is its first camera's; the ground truth's pose of that frame carries pipe.up
+    // (given in the pipe frame) into it.
+    const Trajectory truth = ReadTumTrajectory(dataset_->groundtruth_path);
+    const auto nearest = std::min_element(
+        truth.begin(), truth.end(), [&](const StampedPose& a, const StampedPose& b) {
+          return std::abs(a.timestamp - trajectory.front().timestamp) <
+                 std::abs(b.timestamp - trajectory.front().timestamp);
+        });
+    options.up =
+        first_rotation * nearest->rotation.toRotationMatrix().transpose() * *dataset_->pipe_up;
+    up_source =
+        "pipe.up of the dataset, carried into the map's frame by the ground truth's pose "
+        "of the first frame";
+  } else {
+    options.up = CameraUpright(first_rotation);
+    up_source = "the camera's upright at the first frame";
+    if (dataset_->pipe_up) {
+      up_source +=
+          " (pipe.up is given in the pipe frame, which a map run does not know without "
+          "ground truth)";
+    }
+  }
+  const std::vector<Station> stations =
+      ComputeStations(trajectory, FrameIndicesByTime(trajectory, *dataset_), options);
+  WriteStationsCsv(staging_.path() / "stations.csv", stations);
+  double low = 0.0, high = 0.0;
+  long long undefined_roll = 0;
+  for (const Station& station : stations) {
+    low = std::min(low, station.distance_m);
+    high = std::max(high, station.distance_m);
+    undefined_roll += std::isfinite(station.roll_clock_deg) ? 0 : 1;
+  }
+  report_.Extra("inspection") = {
+      {"survey_line", SurveyLineName(options.line)},
+      {"survey_direction_first",
+       {stations.front().travel.x(), stations.front().travel.y(), stations.front().travel.z()}},
+      {"up", {options.up.x(), options.up.y(), options.up.z()}},
+      {"up_source", up_source},
+      {"distance_min_m", low},
+      {"distance_max_m", high}};
+  if (undefined_roll > 0) {
+    report_.Warn(std::to_string(undefined_roll) +
+                 " frames have no clock position of their roll: the pipe runs along \"up\" there");
+  }
 }
 
 void RunDirectory::WriteTrajectory(const Trajectory& trajectory) {
@@ -104,6 +185,7 @@ void RunDirectory::WriteTrajectory(const Trajectory& trajectory) {
     report_.Extra("reversed_frames_t") = reversals;
   }
   WriteTumTrajectory(staging_.path() / "trajectory.tum", trajectory);
+  if (dataset_) WriteStations(trajectory);
 }
 
 void RunDirectory::WriteKeyFrames(const Trajectory& key_frames) {
@@ -176,6 +258,13 @@ void RunDirectory::Commit() {
   report_.AddTiming("total", total_.ElapsedSeconds());
   report_.AddTiming("total_cpu", total_cpu_.ElapsedSeconds());
   report_.Write(staging_.path() / "run.json");
+  // The report shows inspection coordinates, which need the dataset (SetDataset).
+  if (write_report_ && dataset_) {
+    const Timer report_time;
+    const std::filesystem::path page = staging_.path() / "report.html";
+    WriteReportPage(staging_.path(), page, {});
+    spdlog::debug("report.html written in {:.2f} s", report_time.ElapsedSeconds());
+  }
   staging_.Commit();
 }
 

@@ -8,9 +8,11 @@
 #include <vector>
 
 #include "pipescope/eval/metrics.h"
+#include "pipescope/io/dataset.h"
 #include "pipescope/io/point_cloud_ply.h"
 #include "pipescope/io/trajectory.h"
 #include "pipescope/report/run_quality.h"
+#include "pipescope/report/stations.h"
 #include "pipescope/util/run_report.h"
 #include "pipescope/util/staging_directory.h"
 #include "pipescope/util/timer.h"
@@ -30,6 +32,11 @@ class RunDirectory {
   // run.json's contents: options, counts, timings, warnings, extra sections.
   RunReport& report() { return report_; }
   const std::filesystem::path& staging_path() const { return staging_.path(); }
+
+  // The dataset the run reads (with the command line's overrides): run.json's `inputs`, and a
+  // copy of the calibration as camera.yaml, so `locate` and `report` need only the run. Call it
+  // before WriteTrajectory, which then writes stations.csv too.
+  void SetDataset(const DatasetManifest& manifest);
 
   // trajectory.tum: every frame that was localised. A trajectory no run can have (empty, not
   // finite, or beyond 1000 km from the start) is RunFailedError: the run must not be written.
@@ -58,8 +65,11 @@ class RunDirectory {
   // counts in metrics.json (call it before WriteMetrics). Returns the assessment.
   RunQuality SetQuality(const std::vector<FrameState>& states);
 
-  // Records the total wall and CPU seconds since construction, writes run.json and moves the
-  // run into place.
+  // Whether Commit() writes report.html (the default; --no-report turns it off).
+  void SetWriteReport(bool write) { write_report_ = write; }
+
+  // Records the total wall and CPU seconds since construction, writes run.json (and report.html)
+  // and moves the run into place.
   void Commit();
 
  private:
@@ -68,6 +78,12 @@ class RunDirectory {
   StagingDirectory staging_;
   RunReport report_;
   std::optional<RunQuality> quality_;
+  std::string command_;
+  std::optional<DatasetManifest> dataset_;
+  bool write_report_ = true;
+
+  // stations.csv and run.json's `inspection` block (GUIDE §4 inspection coordinates).
+  void WriteStations(const Trajectory& trajectory);
 };
 
 }  // namespace pipescope

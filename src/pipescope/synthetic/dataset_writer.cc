@@ -131,6 +131,8 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
   manifest.images_dir = staging / "images";
   manifest.fps = config.fps;
   manifest.inner_radius_m = config.radius_m;
+  // The scene's gravity points along +Y (scene.h): 12 o'clock is -Y.
+  manifest.pipe_up = Eigen::Vector3d(0.0, -1.0, 0.0);
   manifest.reference_scale_px_per_m = ReferenceScalePxPerM(config, camera);
   manifest.gain_mask_path = staging / "gain_mask.png";
   manifest.groundtruth_path = staging / "groundtruth.tum";

@@ -33,6 +33,8 @@ TEST(DatasetWriter, WritesAReadableDatasetWithGroundTruth) {
   const DatasetManifest manifest = OpenDataset(dir / "ds");
   EXPECT_EQ(manifest.name, "steel-16in");
   EXPECT_NEAR(*manifest.inner_radius_m, 0.19378, 1e-12);
+  ASSERT_TRUE(manifest.pipe_up.has_value());
+  EXPECT_EQ(*manifest.pipe_up, Eigen::Vector3d(0.0, -1.0, 0.0));  // gravity is +Y (scene.h)
   ASSERT_TRUE(manifest.reference_scale_px_per_m.has_value());
   EXPECT_FALSE(manifest.gain_mask_path.empty());
   const Camera camera = ReadCamera(manifest.camera_path);
