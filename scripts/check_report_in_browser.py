@@ -17,11 +17,13 @@ with a message unless:
 Exit 2 for usage problems (no Chromium, unreadable report). Python 3 standard library only.
 """
 import argparse
+import fcntl
 import html.parser
 import json
 import math
 import os
 import re
+import select
 import shutil
 import struct
 import subprocess
@@ -38,6 +40,7 @@ CHROMIUM_FLAGS = [
     "--disable-dev-shm-usage",
     "--use-angle=swiftshader",        # software WebGL (no GPU needed)
     "--enable-unsafe-swiftshader",    # allow WebGL on SwiftShader in recent Chromium
+    "--disable-gpu-compositing",      # software compositor: keeps the software GPU free for WebGL (much faster)
     "--hide-scrollbars",
     "--no-first-run",
     "--no-default-browser-check",
@@ -154,6 +157,99 @@ def console_errors(stderr):
         if match and CONSOLE_ERROR.search(match.group(1)):
             found.append(match.group(1).strip())
     return found
+
+
+class DevToolsPipe:
+    """Minimal DevTools-protocol client over --remote-debugging-pipe (Chromium reads fd 3, writes fd 4)."""
+
+    def __init__(self, chromium, args, timeout_s):
+        self.timeout_s = timeout_s
+        command_read, self.command_write = os.pipe()
+        self.event_read, event_write = os.pipe()
+
+        def child_fds():
+            # Move both ends above 10 first, so that placing them on 3 and 4 cannot clobber either.
+            high_read = fcntl.fcntl(command_read, fcntl.F_DUPFD, 10)
+            high_write = fcntl.fcntl(event_write, fcntl.F_DUPFD, 10)
+            os.dup2(high_read, 3)
+            os.dup2(high_write, 4)
+
+        self.profile = tempfile.TemporaryDirectory(prefix="pipescope-chromium-")
+        self.process = subprocess.Popen(
+            [chromium, *CHROMIUM_FLAGS, f"--user-data-dir={self.profile.name}", "--remote-debugging-pipe", *args,
+             "about:blank"],
+            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            preexec_fn=child_fds, close_fds=False)
+        os.close(command_read)
+        os.close(event_write)
+        self.buffer = b""
+        self.next_id = 0
+
+    def call(self, method, params=None, session=None):
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params or {}}
+        if session:
+            message["sessionId"] = session
+        os.write(self.command_write, json.dumps(message).encode() + b"\0")
+        deadline = time.monotonic() + self.timeout_s
+        while True:
+            while b"\0" in self.buffer:
+                raw, self.buffer = self.buffer.split(b"\0", 1)
+                reply = json.loads(raw)
+                if reply.get("id") == self.next_id:
+                    if "error" in reply:
+                        raise Failure(f"DevTools {method}: {reply['error']}")
+                    return reply.get("result", {})
+            remaining = deadline - time.monotonic()
+            if remaining <= 0 or not select.select([self.event_read], [], [], remaining)[0]:
+                raise Failure(f"DevTools {method}: no answer within {self.timeout_s} s")
+            chunk = os.read(self.event_read, 1 << 20)
+            if not chunk:
+                raise Failure(f"DevTools {method}: Chromium closed the pipe")
+            self.buffer += chunk
+
+    def close(self):
+        try:
+            self.call("Browser.close")
+        except (Failure, OSError):
+            pass
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+        os.close(self.command_write)
+        os.close(self.event_read)
+        self.profile.cleanup()
+
+
+def measure_ready(chromium, url, window, timeout_s):
+    """Real seconds from navigation to data-pipescope-status being set (no virtual time), and the page's own
+    performance.now() at that moment in ms. Returns (None, None, reason) if it cannot be measured."""
+    try:
+        browser = DevToolsPipe(chromium, [window], timeout_s)
+    except OSError as error:
+        return None, None, str(error)
+    try:
+        browser.call("Browser.getVersion")
+        target = browser.call("Target.createTarget", {"url": "about:blank"})["targetId"]
+        session = browser.call("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+        start = time.monotonic()
+        browser.call("Page.navigate", {"url": url}, session)
+        while time.monotonic() - start < timeout_s:
+            result = browser.call("Runtime.evaluate", {
+                "expression": "[document.documentElement.dataset.pipescopeStatus || '', "
+                              "document.documentElement.dataset.readyMs || '']",
+                "returnByValue": True}, session)
+            status, page_ms = (result.get("result", {}).get("value") or ["", ""])
+            if status:
+                return time.monotonic() - start, page_ms, status
+            time.sleep(0.05)
+        return None, None, f"not ready within {timeout_s} s"
+    except (Failure, OSError) as failure:
+        return None, None, str(failure)
+    finally:
+        browser.close()
 
 
 # ------------------------------------------------------------------------------------------ PNG
@@ -329,7 +425,7 @@ def check(args):
     window = f"--window-size={args.window_size}"
     budget = f"--virtual-time-budget={args.budget_ms}"
 
-    dom_text, log, dom_seconds = run_chromium(chromium, [window, budget, "--dump-dom"], url, args.timeout)
+    dom_text, log, _ = run_chromium(chromium, [window, budget, "--dump-dom"], url, args.timeout)
     if "<html" not in dom_text:
         raise Failure("Chromium printed no DOM:\n" + log[-3000:])
     dom = parse_dom(dom_text)
@@ -337,7 +433,6 @@ def check(args):
     failures = []
     status = dom.root_attrs.get("data-pipescope-status")
     viewer = dom.root_attrs.get("data-viewer")
-    ready_ms = dom.root_attrs.get("data-ready-ms")
     errors_text = "".join(dom.errors_text).strip()
     if dom.errors_attrs is None:
         failures.append("the page has no <pre id=\"pipescope-errors\"> element")
@@ -365,7 +460,7 @@ def check(args):
     shot = os.path.abspath(args.screenshot)
     if os.path.exists(shot):
         os.remove(shot)
-    _, shot_log, shot_seconds = run_chromium(chromium, [window, budget, f"--screenshot={shot}"], url, args.timeout)
+    _, shot_log, _ = run_chromium(chromium, [window, budget, f"--screenshot={shot}"], url, args.timeout)
     if not os.path.exists(shot):
         failures.append("Chromium wrote no screenshot:\n" + shot_log[-2000:])
         deviation = share = None
@@ -376,9 +471,16 @@ def check(args):
             failures.append(f"the screenshot looks blank (luminance deviation {deviation:.1f}, "
                             f"{100 * share:.1f} % of pixels unlike the commonest colour)")
 
+    # Time to ready in real time (the runs above use virtual time, whose clock is not the wall clock).
+    ready_s, ready_page_ms, ready_note = measure_ready(chromium, url, window, args.timeout)
+    if ready_s is None:
+        timing = f"time to ready not measured ({ready_note})"
+    else:
+        timing = f"ready {ready_s:.2f} s after navigation (page clock {ready_page_ms} ms, status {ready_note})"
+
     size_mb = os.path.getsize(report_path) / 1e6
     summary = (f"{os.path.basename(report_path)}: {size_mb:.1f} MB, status={status}, viewer={viewer}, "
-               f"ready after {ready_ms} ms (page clock), Chromium run {dom_seconds:.1f} s; "
+               f"{timing}; "
                f"ruler labels {rulers}, clock labels {clocks}, worst offset "
                f"{'n/a' if worst is None else f'{worst:.2f} px'}; screenshot {size[0]}x{size[1]}, "
                f"deviation {'n/a' if deviation is None else f'{deviation:.1f}'}")

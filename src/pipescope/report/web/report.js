@@ -6,7 +6,9 @@
 (function () {
   const root = document.documentElement;
   const main = document.getElementById("report");
+  performance.mark("pipescope:script");
   const data = JSON.parse(document.getElementById("pipescope-data").textContent);
+  performance.mark("pipescope:parsed");
 
   // Everything the page waits for before it reports "ready" (charts drawn, strips laid out, viewer frame).
   const pending = [];
@@ -296,7 +298,7 @@
     const height = 260;
     const options = makeOptions(Math.max(holder.clientWidth, 200), height);
     options.hooks = options.hooks || {};
-    options.hooks.draw = (options.hooks.draw || []).concat([() => drawn()]);
+    options.hooks.draw = (options.hooks.draw || []).concat([() => { performance.mark("pipescope:chart-" + title); drawn(); }]);
     const plot = new uPlot(options, chartData, holder);
     charts.push({ plot, holder, height });
     onWidthChange(holder, (width) => plot.setSize({ width: Math.max(width, 200), height }));
@@ -485,8 +487,13 @@
 
   const CLOCK_MARKS = [[0, "12"], [90, "3"], [180, "6"], [270, "9"]];
   const MAX_STRIP_COLS = 1200;
-  const MAX_STRIP_METRES = 1.0;
-  const MAX_SCALE = 2;  // CSS px per mosaic column at most (small mosaics are not blown up further)
+  const MAX_SCALE = 2;          // CSS px per mosaic column at most (small mosaics are not blown up further)
+  const MAX_STRIP_HEIGHT = 200; // CSS px
+
+  // Metres per strip: 1 m, or 2 / 5 / 10 m for long runs so that the page stays readable.
+  function metresPerStrip(lengthM) {
+    return lengthM <= 15 ? 1 : lengthM <= 40 ? 2 : lengthM <= 100 ? 5 : 10;
+  }
 
   // A "nice" step (1, 2, 5 x 10^k) no smaller than minStep, and its minor subdivision.
   function niceStep(minStep) {
@@ -530,8 +537,12 @@
     const hasClock = isNum(mosaic.clock_deg_at_row0) && isNum(mosaic.clock_deg_per_row) && mosaic.clock_deg_per_row !== 0;
 
     let stripCols = Math.min(cols, MAX_STRIP_COLS);
-    if (metric) stripCols = Math.min(stripCols, Math.max(1, Math.floor(MAX_STRIP_METRES / Math.abs(perCol))));
-    const scale = Math.min(MAX_SCALE, available / stripCols);
+    if (metric) {
+      const metres = metresPerStrip(cols * Math.abs(perCol));
+      stripCols = Math.min(cols, Math.max(1, Math.floor(metres / Math.abs(perCol))));
+      if (metres === 1) stripCols = Math.min(stripCols, MAX_STRIP_COLS);
+    }
+    const scale = Math.min(MAX_SCALE, MAX_STRIP_HEIGHT / rows, available / stripCols);
     const heightCss = rows * scale;
 
     const observations = metric && hasClock ? (data.observations || []).filter((o) => isNum(o.distance_m) && isNum(o.clock_angle_deg)) : [];
@@ -549,7 +560,7 @@
         width: Math.max(1, Math.round(widthCss * dpr)), height: Math.max(1, Math.round(heightCss * dpr)),
         role: "img", "aria-label": `${mosaic.title || "mosaic"}, columns ${col0} to ${col0 + n - 1}`,
       });
-      const ctx = canvas.getContext("2d");
+      const ctx = canvas.getContext("2d", { willReadFrequently: true });  // a software canvas: static image, no GPU upload
       ctx.imageSmoothingQuality = "high";
       ctx.drawImage(image, col0, 0, n, rows, 0, 0, canvas.width, canvas.height);
 
@@ -653,6 +664,7 @@
       pending.push(imageReady(image, mosaic.title || `mosaic ${index}`).then(() => {
         const available = () => holder.clientWidth - 36;  // room for the clock labels
         layoutMosaic(holder, mosaic, index, image, available());
+        performance.mark(`pipescope:mosaic-${index}`);
         onWidthChange(holder, () => layoutMosaic(holder, mosaic, index, image, available()));
       }));
     });
@@ -743,16 +755,14 @@
 
   // ---------------------------------------------------------------- 3D viewer (three.js)
 
-  function webgl2Available() {
+  // A WebGL 2 context for the viewer, or null. The renderer reuses it (creating contexts is slow in software GL).
+  function webgl2Context() {
     try {
       const canvas = document.createElement("canvas");
-      const gl = canvas.getContext("webgl2");
-      if (!gl) return false;
-      const lose = gl.getExtension("WEBGL_lose_context");
-      if (lose) lose.loseContext();
-      return true;
+      const context = canvas.getContext("webgl2", { antialias: false, alpha: false });
+      return context ? { canvas, context } : null;
     } catch (e) {
-      return false;
+      return null;
     }
   }
 
@@ -765,7 +775,7 @@
     const importMap = el("script", { type: "importmap" });
     importMap.textContent = JSON.stringify({ imports: { three: threeUrl } });
     document.head.append(importMap);
-    return Promise.all([import(threeUrl), import(controlsUrl)]);
+    return Promise.all([import(threeUrl), import(controlsUrl)]).finally(() => performance.mark("pipescope:three-imported"));
   }
 
   function buildViewer() {
@@ -775,7 +785,8 @@
       return;
     }
     const node = section("viewer", "3D view");
-    if (!webgl2Available()) {
+    const gl = webgl2Context();
+    if (!gl) {
       root.dataset.viewer = "unavailable";
       node.append(note("The 3D view needs WebGL 2, which this browser does not provide here. The rest of the report is complete.", "warn"));
       return;
@@ -794,10 +805,11 @@
         el("span", { class: "muted" }, `${cloud.count.toLocaleString("en")} points · drag to orbit, wheel to zoom, right-drag to pan`)),
       el("div", { class: "viewer" }, stage, overlay), printImage, legend);
     pending.push(loadThree().then(([THREE, controlsModule]) =>
-      startViewer(THREE, controlsModule.OrbitControls, cloud, { stage, overlay, printImage, colorSelect, sizeInput, sizeValue, legend })));
+      startViewer(THREE, controlsModule.OrbitControls, cloud, gl, { stage, overlay, printImage, colorSelect, sizeInput, sizeValue, legend })));
   }
 
-  function startViewer(THREE, OrbitControls, cloud, ui) {
+  function startViewer(THREE, OrbitControls, cloud, gl, ui) {
+    performance.mark("pipescope:three-loaded");
     const count = cloud.count;
     const positions = base64Float32(cloud.positions_f32);
     if (positions.length < count * 3) throw new Error(`cloud: positions hold ${positions.length / 3} points, count says ${count}`);
@@ -852,7 +864,7 @@
     }
 
     const junctions = (cloud.junctions || []).filter((j) => Array.isArray(j.center));
-    const markerGeometry = new THREE.SphereGeometry(radius * 0.008, 16, 12);
+    const markerGeometry = new THREE.SphereGeometry(radius * 0.012, 16, 12);
     const markerMaterial = new THREE.MeshBasicMaterial({ color: COLORS.junction3d });
     const labels = junctions.map((j) => {
       const mesh = new THREE.Mesh(markerGeometry, markerMaterial);
@@ -880,7 +892,7 @@
     camera.position.copy(center).addScaledVector(side, radius * 1.9).addScaledVector(up, radius * 0.7);
     camera.lookAt(center);
 
-    const renderer = new THREE.WebGLRenderer({ antialias: false });
+    const renderer = new THREE.WebGLRenderer({ canvas: gl.canvas, context: gl.context, antialias: false });
     renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     ui.stage.append(renderer.domElement);
 
@@ -952,7 +964,9 @@
 
     setColorMode(modes[0] || "plain");
     resize();
+    performance.mark("pipescope:viewer-built");
     render();
+    performance.mark("pipescope:viewer-rendered");
     // The first frame has been submitted; mark the viewer drawn after the browser has presented it.
     return new Promise((resolve) => requestAnimationFrame(() => {
       root.dataset.viewer = "drawn";
@@ -990,23 +1004,19 @@
   }
 
   function setReady() {
+    performance.mark("pipescope:ready");
     if (!root.dataset.viewer) root.dataset.viewer = data.cloud && data.cloud.count ? "pending" : "none";
     root.dataset.readyMs = performance.now().toFixed(0);
     root.dataset.pipescopeStatus = window.pipescopeErrors.messages.length ? "error" : "ready";
   }
 
   function build() {
-    buildTitle();
-    buildSummary();
-    buildTrajectory();
-    buildAccuracy();
-    buildWall();
-    buildMap();
-    buildObservations();
-    buildViewer();
-    buildNav();
-    buildFooter();
-    setupPrint();
+    const steps = { buildTitle, buildSummary, buildTrajectory, buildAccuracy, buildWall, buildMap, buildObservations,
+      buildViewer, buildNav, buildFooter, setupPrint };
+    for (const [name, step] of Object.entries(steps)) {
+      step();
+      performance.mark("pipescope:" + name);  // timings for profiling (performance.getEntriesByType("mark"))
+    }
   }
 
   try {
