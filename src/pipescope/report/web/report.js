@@ -356,18 +356,22 @@
   function xyChart(parent, title, caption, xKey, yKey, yLabel, yDirection) {
     const series = [{}];
     const seriesData = [null];
+    // Legend text of the hovered point (uPlot passes the point's index in x/y mode).
+    const hovered = (times) => (u, v, seriesIdx, idx) => idx == null ? "—"
+      : `t ${fmt(times[idx], 2)} s: ${xKey} ${fmt(u.data[seriesIdx][0][idx], 3)}, ${yKey} ${fmt(u.data[seriesIdx][1][idx], 3)}`;
     series.push({ label: "estimate", stroke: COLORS.estimate, width: 1.5, paths: orderedLine,
-      points: { show: false, size: 7, stroke: COLORS.estimate, fill: "#fff" }, facets: xyFacets(), value: (u, v) => fmt(v, 3) });
+      points: { show: false, size: 7, stroke: COLORS.estimate, fill: "#fff" }, facets: xyFacets(), value: hovered(stations.t) });
     seriesData.push([stations[xKey], stations[yKey]]);
     if (truth) {
       series.push({ label: "ground truth", stroke: COLORS.truth, width: 1.5, dash: [6, 4], paths: orderedLine,
-        points: { show: false, size: 7, stroke: COLORS.truth, fill: "#fff" }, facets: xyFacets(), value: (u, v) => fmt(v, 3) });
+        points: { show: false, size: 7, stroke: COLORS.truth, fill: "#fff" }, facets: xyFacets(), value: hovered(truth.t) });
       seriesData.push([truth[xKey], truth[yKey]]);
     }
     const flagged = flaggedStations();
     if (flagged.length) {
       series.push({ label: "predicted / bridged", stroke: COLORS.flagged, fill: COLORS.flagged, width: 1, paths: squareMarkers(4),
-        points: { show: false, size: 8, stroke: COLORS.flagged, fill: "#fff" }, facets: xyFacets(), value: (u, v) => fmt(v, 3) });
+        points: { show: false, size: 8, stroke: COLORS.flagged, fill: "#fff" }, facets: xyFacets(),
+        value: hovered(flagged.map((i) => stations.t[i])) });
       seriesData.push([flagged.map((i) => stations[xKey][i]), flagged.map((i) => stations[yKey][i])]);
     }
     return chart(parent, title, caption, (width, height) => ({
@@ -842,6 +846,8 @@
     }
     const colorCache = {};
 
+    // Colours are used exactly as given (sRGB bytes in, the same bytes on screen): no colour management.
+    THREE.ColorManagement.enabled = false;
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute("position", new THREE.BufferAttribute(positions.subarray(0, count * 3), 3));
     geometry.computeBoundingSphere();
@@ -893,6 +899,7 @@
     camera.lookAt(center);
 
     const renderer = new THREE.WebGLRenderer({ canvas: gl.canvas, context: gl.context, antialias: false });
+    renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
     renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     ui.stage.append(renderer.domElement);
 
@@ -943,7 +950,7 @@
       ui.legend.textContent = "";
       if (mode === "section") {
         const ids = [...sectionsPresent].sort((a, b) => a - b);
-        ui.legend.append("Sections: ", ids.slice(0, 24).map((s) => el("span", { class: "swatch-item" },
+        ui.legend.append("Sections: ", ...ids.slice(0, 24).map((s) => el("span", { class: "swatch-item" },
           el("span", { class: "swatch", style: `background:rgb(${(s === 0xffff ? [170, 170, 170] : SECTION_PALETTE[s % SECTION_PALETTE.length]).join(",")})` }),
           s === 0xffff ? "none" : String(s))), ids.length > 24 ? ` … ${ids.length} in all` : "");
       }
