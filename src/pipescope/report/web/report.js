@@ -433,7 +433,7 @@
     const grid = el("div", { class: "chart-grid" });
     const upY = Array.isArray(convention.up) ? convention.up[1] : 0;
     const node = section("trajectory", "Trajectory",
-      note("Drag to zoom (both axes on the views, time on the others); double-click to reset. Hover shows values."),
+      note("Drag to zoom (both axes on the views, time on the others); double-click to reset. Hover shows values.", "screen-only"),
       shadingKey(), grid);
     xyChart(grid, "Top view", "x against z", "z", "x", "x (m)", 1);
     xyChart(grid, "Side view", upY < 0 ? "y against z (y axis drawn downwards: the pipe's up is up)" : "y against z",
