@@ -269,7 +269,7 @@
 
   // Shades the predicted / bridged / not-localised stretches behind the series (x scale in seconds or metres).
   function stretchShading(key) {
-    const stretches = (quality.stretches || []).filter((s) => isNum(s[key + "_from"]) || isNum(s[key === "t" ? "t_from" : "distance_from_m"]));
+    const stretches = quality.stretches || [];
     return (u) => {
       const ctx = u.ctx;
       const { top, height } = u.bbox;
@@ -298,7 +298,12 @@
     const height = 260;
     const options = makeOptions(Math.max(holder.clientWidth, 200), height);
     options.hooks = options.hooks || {};
-    options.hooks.draw = (options.hooks.draw || []).concat([() => { performance.mark("pipescope:chart-" + title); drawn(); }]);
+    let first = true;
+    options.hooks.draw = (options.hooks.draw || []).concat([() => {
+      if (first) performance.mark("pipescope:chart-" + title);
+      first = false;
+      drawn();
+    }]);
     const plot = new uPlot(options, chartData, holder);
     charts.push({ plot, holder, height });
     onWidthChange(holder, (width) => plot.setSize({ width: Math.max(width, 200), height }));
