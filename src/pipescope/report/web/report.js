@@ -269,7 +269,7 @@
 
   // Shades the predicted / bridged / not-localised stretches behind the series (x scale in seconds or metres).
   function stretchShading(key) {
-    const stretches = (quality.stretches || []).filter((s) => isNum(s[key + "_from"]) || isNum(s[key === "t" ? "t_from" : "distance_from_m"]));
+    const stretches = quality.stretches || [];
     return (u) => {
       const ctx = u.ctx;
       const { top, height } = u.bbox;
@@ -298,7 +298,12 @@
     const height = 260;
     const options = makeOptions(Math.max(holder.clientWidth, 200), height);
     options.hooks = options.hooks || {};
-    options.hooks.draw = (options.hooks.draw || []).concat([() => { performance.mark("pipescope:chart-" + title); drawn(); }]);
+    let first = true;
+    options.hooks.draw = (options.hooks.draw || []).concat([() => {
+      if (first) performance.mark("pipescope:chart-" + title);
+      first = false;
+      drawn();
+    }]);
     const plot = new uPlot(options, chartData, holder);
     charts.push({ plot, holder, height });
     onWidthChange(holder, (width) => plot.setSize({ width: Math.max(width, 200), height }));
@@ -433,7 +438,7 @@
     const grid = el("div", { class: "chart-grid" });
     const upY = Array.isArray(convention.up) ? convention.up[1] : 0;
     const node = section("trajectory", "Trajectory",
-      note("Drag to zoom (both axes on the views, time on the others); double-click to reset. Hover shows values."),
+      note("Drag to zoom (both axes on the views, time on the others); double-click to reset. Hover shows values.", "screen-only"),
       shadingKey(), grid);
     xyChart(grid, "Top view", "x against z", "z", "x", "x (m)", 1);
     xyChart(grid, "Side view", upY < 0 ? "y against z (y axis drawn downwards: the pipe's up is up)" : "y against z",
