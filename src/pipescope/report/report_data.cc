@@ -141,8 +141,9 @@ json StationsJson(const RunFiles& run, const json& quality) {
           {"state", state}};
 }
 
-// The truth at each estimated station: positions, distance along the pipe on the same survey
-// line, position error after the SE(3) alignment of metrics.json, distance error.
+// The truth at each estimated station: positions (in the run's frame, through the SE(3)
+// alignment of metrics.json), distance along the pipe on the same survey line, position error
+// after that alignment, distance error.
 json GroundTruthJson(const RunFiles& run, const DatasetManifest& dataset) {
   if (dataset.groundtruth_path.empty()) return nullptr;
   const Trajectory truth = ReadTumTrajectory(dataset.groundtruth_path);
@@ -167,9 +168,12 @@ json GroundTruthJson(const RunFiles& run, const DatasetManifest& dataset) {
     const Station& truth_station = true_stations[pairs[k].gt_index];
     const Station& estimate = run.stations[pairs[k].est_index];
     t.push_back(truth_station.timestamp);
-    x.push_back(truth_station.position.x());
-    y.push_back(truth_station.position.y());
-    z.push_back(truth_station.position.z());
+    // Drawn beside the estimate: the truth in the run's frame (the alignment undone).
+    const Eigen::Vector3d in_run =
+        align.rotation.transpose() * (truth_station.position - align.translation) / align.scale;
+    x.push_back(in_run.x());
+    y.push_back(in_run.y());
+    z.push_back(in_run.z());
     const double true_distance = truth_station.distance_m - true_start;
     distance.push_back(true_distance);
     position_error.push_back((align(estimated[k]) - actual[k]).norm());
@@ -490,22 +494,25 @@ json BuildReportData(const std::filesystem::path& run_dir, const ReportOptions& 
   data["schema"] = "pipescope-report/1";
   data["title"] = "pipescope " + run.command + ": " + method + " on " + dataset_name;
   data["generated"] = {{"by", std::string("pipescope ") + PipescopeVersion()}, {"utc", UtcNow()}};
-  data["run"] = {{"command", run.command},
-                 {"method", method},
-                 {"directory", std::filesystem::absolute(run_dir).string()},
-                 {"dataset", dataset ? json(std::filesystem::absolute(dataset->manifest_path.empty()
-                                                                          ? dataset->images_dir
-                                                                          : dataset->manifest_path)
-                                                .string())
-                                     : json(nullptr)},
-                 {"frames", counts.value("frames", static_cast<long long>(run.trajectory.size()))},
-                 {"frames_localised", run.trajectory.size()},
-                 {"duration_s", run.trajectory.back().timestamp - run.trajectory.front().timestamp},
-                 {"distance_travelled_m", travelled},
-                 {"distance_min_m", low},
-                 {"distance_max_m", high},
-                 {"radius_m", run.radius_m},
-                 {"timings_s", run_json.value("timings_s", json::object())}};
+  data["run"] = {
+      {"command", run.command},
+      {"method", method},
+      {"directory", std::filesystem::absolute(
+                        options.shown_directory.empty() ? run_dir : options.shown_directory)
+                        .string()},
+      {"dataset", dataset ? json(std::filesystem::absolute(dataset->manifest_path.empty()
+                                                               ? dataset->images_dir
+                                                               : dataset->manifest_path)
+                                     .string())
+                          : json(nullptr)},
+      {"frames", counts.value("frames", static_cast<long long>(run.trajectory.size()))},
+      {"frames_localised", run.trajectory.size()},
+      {"duration_s", run.trajectory.back().timestamp - run.trajectory.front().timestamp},
+      {"distance_travelled_m", travelled},
+      {"distance_min_m", low},
+      {"distance_max_m", high},
+      {"radius_m", run.radius_m},
+      {"timings_s", run_json.value("timings_s", json::object())}};
   data["quality"] = QualityJson(run);
   data["warnings"] = run_json.value("warnings", json::array());
   const Eigen::Vector3d& up = run.station_options.up;

@@ -9,6 +9,9 @@ struct ReportOptions {
   // A dataset to read the ground truth and frames from instead of the one run.json names
   // (`report --dataset`): for a run whose dataset has moved.
   std::filesystem::path dataset;
+  // The run directory as the report names it, when the files are read from elsewhere (a run
+  // writes its report in its staging folder before putting it in place); empty: the one read.
+  std::filesystem::path shown_directory;
 };
 
 // Everything report.html shows, gathered from a run directory (run.json, trajectory.tum,

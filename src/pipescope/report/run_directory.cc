@@ -262,7 +262,10 @@ void RunDirectory::Commit() {
   if (write_report_ && dataset_) {
     const Timer report_time;
     const std::filesystem::path page = staging_.path() / "report.html";
-    WriteReportPage(staging_.path(), page, {});
+    WriteReportPage(staging_.path(), page, {.shown_directory = staging_.target()});
+    // run.json again, with the report's own time (docs/report.md: what the report costs a run).
+    report_.AddTiming("report", report_time.ElapsedSeconds());
+    report_.Write(staging_.path() / "run.json");
     spdlog::debug("report.html written in {:.2f} s", report_time.ElapsedSeconds());
   }
   staging_.Commit();

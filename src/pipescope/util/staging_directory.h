@@ -29,6 +29,8 @@ class StagingDirectory {
   StagingDirectory& operator=(const StagingDirectory&) = delete;
 
   const std::filesystem::path& path() const { return staging_; }
+  // Where Commit() puts the folder.
+  const std::filesystem::path& target() const { return target_; }
 
   // Moves the finished folder into place; an earlier `target` is removed only once the new one
   // is whole.
