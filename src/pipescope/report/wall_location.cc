@@ -1,5 +1,6 @@
 #include "pipescope/report/wall_location.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,22 +10,32 @@
 
 namespace pipescope {
 
-std::optional<WallLocation> LocateOnStraightPipe(const Camera& camera,
-                                                 const Eigen::Isometry3d& world_from_cam,
-                                                 const Station& station,
-                                                 const Eigen::Vector2d& pixel, double radius_m,
-                                                 const Eigen::Vector3d& up) {
+std::optional<WallLocation> LocateOnCylinder(const Camera& camera,
+                                             const Eigen::Isometry3d& world_from_cam,
+                                             const Station& station, const Eigen::Vector2d& pixel,
+                                             double radius_m, const PipeAxis& axis,
+                                             const Eigen::Vector3d& up) {
   Eigen::Vector3d bearing;
   if (!camera.Unproject(pixel, &bearing)) return std::nullopt;
   const Eigen::Vector3d origin = world_from_cam.translation();
   const Eigen::Vector3d direction = (world_from_cam.linear() * bearing).normalized();
-  const std::optional<double> t = RayToWall(origin, direction, radius_m);
+  // In a frame whose Z axis is the cylinder's axis, RayToWall meets |xy| = radius.
+  const Eigen::Vector3d along = axis.direction.normalized();
+  const Eigen::Matrix3d axis_from_world =
+      Eigen::Quaterniond::FromTwoVectors(along, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d origin_in_axis = axis_from_world * (origin - axis.point);
+  if (origin_in_axis.head<2>().norm() >= radius_m) return std::nullopt;
+  const std::optional<double> t = RayToWall(origin_in_axis, axis_from_world * direction, radius_m);
   if (!t) return std::nullopt;
+  // Along the pipe is along its axis, pointed the way of the survey: the path's own direction
+  // may lean on the axis, and would then add part of the radius to the distance.
+  const Eigen::Vector3d survey = along.dot(station.travel) < 0.0 ? Eigen::Vector3d(-along) : along;
   WallLocation location;
   location.point = origin + *t * direction;
-  location.distance_m = station.distance_m + (location.point - origin).dot(station.travel);
-  const Eigen::Vector3d radial(location.point.x(), location.point.y(), 0.0);
-  const std::optional<double> clock = ClockAngleDeg(radial, station.travel, up);
+  location.distance_m = station.distance_m + (location.point - origin).dot(survey);
+  const Eigen::Vector3d from_axis = location.point - axis.point;
+  const Eigen::Vector3d radial = from_axis - from_axis.dot(along) * along;
+  const std::optional<double> clock = ClockAngleDeg(radial, survey, up);
   location.clock_angle_deg = clock.value_or(std::numeric_limits<double>::quiet_NaN());
   if (clock) location.clock = ClockString(*clock);
   return location;

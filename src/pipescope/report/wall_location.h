@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pipescope/camera/camera.h"
+#include "pipescope/geometry/pipe_cylinder.h"
 #include "pipescope/report/stations.h"
 
 namespace pipescope {
@@ -20,16 +21,17 @@ struct WallLocation {
   int section = 0;               // straight section of the pipe (0 for a single straight pipe)
 };
 
-// The wall point that `pixel` of a frame shows, for a straight pipe of `radius_m` whose axis is
-// the run frame's Z axis (odometry runs, GUIDE §3): the camera's ray, through Camera::Unproject,
-// meets the cylinder; its distance is the frame's station plus the point's offset along the
-// survey direction, its clock angle that of the point around the axis. Unset when the pixel has
-// no ray (outside the lens's valid angle) or the ray runs along the axis.
-std::optional<WallLocation> LocateOnStraightPipe(const Camera& camera,
-                                                 const Eigen::Isometry3d& world_from_cam,
-                                                 const Station& station,
-                                                 const Eigen::Vector2d& pixel, double radius_m,
-                                                 const Eigen::Vector3d& up);
+// The wall point that `pixel` of a frame shows, on the cylinder of `radius_m` about `axis` (in
+// the run's frame): the camera's ray, through Camera::Unproject, meets the cylinder; its
+// distance is the frame's station plus the point's offset along the axis (pointed the way of the
+// survey), its clock angle that of the point around the axis, looking that way. Unset when the
+// pixel has no ray (outside the lens's valid angle), the ray runs along the axis, or the camera is
+// not inside the cylinder.
+std::optional<WallLocation> LocateOnCylinder(const Camera& camera,
+                                             const Eigen::Isometry3d& world_from_cam,
+                                             const Station& station, const Eigen::Vector2d& pixel,
+                                             double radius_m, const PipeAxis& axis,
+                                             const Eigen::Vector3d& up);
 
 // The shortest arc of the clock face holding every angle (degrees): {from, to} read clockwise,
 // e.g. {330, 30} for a box across 12 o'clock. NaN angles are ignored; empty input gives NaNs.

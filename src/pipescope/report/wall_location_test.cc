@@ -36,7 +36,7 @@ TEST(WallLocation, FindsTheWallPointAPixelShows) {
       Eigen::Vector2d pixel;
       ASSERT_EQ(camera.Project(world_from_cam.inverse() * truth, &pixel), ProjectionStatus::kValid);
       const std::optional<WallLocation> found =
-          LocateOnStraightPipe(camera, world_from_cam, station, pixel, kRadius, {0, -1, 0});
+          LocateOnCylinder(camera, world_from_cam, station, pixel, kRadius, {}, {0, -1, 0});
       ASSERT_TRUE(found.has_value());
       EXPECT_LT((found->point - truth).norm(), 1e-9);
       EXPECT_NEAR(found->distance_m, 0.75 + (z - 1.0), 1e-9);
@@ -48,11 +48,38 @@ TEST(WallLocation, FindsTheWallPointAPixelShows) {
   Eigen::Vector2d pixel;
   camera.Project(world_from_cam.inverse() * WallPoint(120.0, 1.3), &pixel);
   const auto mirrored =
-      LocateOnStraightPipe(camera, world_from_cam, station, pixel, kRadius, {0, -1, 0});
+      LocateOnCylinder(camera, world_from_cam, station, pixel, kRadius, {}, {0, -1, 0});
   ASSERT_TRUE(mirrored.has_value());
   EXPECT_NEAR(mirrored->distance_m, 0.75 - 0.3, 1e-9);
   EXPECT_NEAR(mirrored->clock_angle_deg, 240.0, 1e-7);
   EXPECT_EQ(mirrored->clock, "8:00");
+}
+
+// The same scene moved and turned as a whole: the axis no longer the Z axis through the origin.
+TEST(WallLocation, AnyAxisGivesTheSameAnswerAsTheMovedScene) {
+  const Eigen::Isometry3d move =
+      Eigen::Translation3d(0.4, -1.0, 2.0) *
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, 2.0, -0.5).normalized());
+  Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();
+  world_from_cam.translation() = Eigen::Vector3d(-0.02, 0.05, 0.3);
+  world_from_cam.linear() = Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  Station station;
+  station.travel = Eigen::Vector3d::UnitZ();
+  const Camera camera = Pinhole();
+  const Eigen::Vector3d truth = WallPoint(250.0, 0.45);
+  Eigen::Vector2d pixel;
+  ASSERT_EQ(camera.Project(world_from_cam.inverse() * truth, &pixel), ProjectionStatus::kValid);
+  Station moved_station = station;
+  moved_station.travel = move.linear() * station.travel;
+  const PipeAxis moved_axis{move.translation(), move.linear() * Eigen::Vector3d::UnitZ()};
+  const auto found = LocateOnCylinder(camera, move * world_from_cam, moved_station, pixel, kRadius,
+                                      moved_axis, move.linear() * Eigen::Vector3d(0, -1, 0));
+  ASSERT_TRUE(found.has_value());
+  EXPECT_LT((found->point - move * truth).norm(), 1e-9);
+  EXPECT_NEAR(found->distance_m, 0.15, 1e-9);
+  EXPECT_NEAR(found->clock_angle_deg, 250.0, 1e-7);
+  // A camera outside the cylinder has no answer.
+  EXPECT_FALSE(LocateOnCylinder(camera, world_from_cam, station, pixel, 0.01, {}, {0, -1, 0}));
 }
 
 TEST(WallLocation, ClockSpanTakesTheShortArc) {
