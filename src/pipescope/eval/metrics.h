@@ -39,6 +39,12 @@ struct Metrics {
 
   double ate_rmse_m = 0;
   double ate_max_m = 0;
+  // Camera orientation drift: the estimate turned so that its first orientation is the truth's,
+  // the angle between each true and estimated orientation, degrees. Positions alone can be right
+  // while the camera's orientation drifts, and every wall point placed from a frame (`locate`,
+  // the maps) inherits that drift.
+  double rot_rmse_deg = 0;
+  double rot_max_deg = 0;
   Alignment alignment = Alignment::kSe3;
   std::optional<double> scale;  // Sim(3) alignment only: ground truth ≈ scale * estimate.
 

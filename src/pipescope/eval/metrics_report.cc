@@ -46,6 +46,8 @@ nlohmann::json MetricsToJson(const Metrics& metrics) {
   json["return_error_pct"] = OptionalToJson(metrics.return_error_pct);
   json["ate_rmse_m"] = metrics.ate_rmse_m;
   json["ate_max_m"] = metrics.ate_max_m;
+  json["rot_rmse_deg"] = metrics.rot_rmse_deg;
+  json["rot_max_deg"] = metrics.rot_max_deg;
   json["alignment"] = AlignmentName(metrics.alignment);
   json["scale"] = OptionalToJson(metrics.scale);
   json["rpe_1m_pct"] = OptionalToJson(metrics.rpe_1m_pct);
@@ -87,6 +89,8 @@ std::string MetricsToTable(const Metrics& metrics) {
   if (metrics.scale) rows.push_back({"scale", Format("%.6f", *metrics.scale)});
   rows.push_back({"ate_rmse_m", Format("%.4f m", metrics.ate_rmse_m)});
   rows.push_back({"ate_max_m", Format("%.4f m", metrics.ate_max_m)});
+  rows.push_back({"rot_rmse_deg", Format("%.2f deg", metrics.rot_rmse_deg)});
+  rows.push_back({"rot_max_deg", Format("%.2f deg", metrics.rot_max_deg)});
   rows.push_back({"rpe_1m_pct",
                   FormatOptional("%.3f %%", metrics.rpe_1m_pct, "- (run shorter than a segment)")});
 

@@ -98,6 +98,21 @@ void ComputeAbsoluteError(const MatchedPoses& poses, Alignment alignment, Metric
   metrics->alignment = alignment;
   metrics->ate_rmse_m = std::sqrt(sum_squared / poses.gt_positions.size());
   metrics->ate_max_m = max_error;
+  // Turned so that the first orientations agree: a position-only alignment leaves the rotation
+  // about a straight path arbitrary, the first pose does not.
+  const Eigen::Quaterniond align_rotation =
+      poses.gt_rotations.front() * poses.est_rotations.front().conjugate();
+  double sum_squared_deg = 0;
+  double max_deg = 0;
+  for (std::size_t i = 0; i < poses.gt_rotations.size(); ++i) {
+    const double angle_deg =
+        poses.gt_rotations[i].angularDistance(align_rotation * poses.est_rotations[i]) * 180.0 /
+        M_PI;
+    sum_squared_deg += angle_deg * angle_deg;
+    max_deg = std::max(max_deg, angle_deg);
+  }
+  metrics->rot_rmse_deg = std::sqrt(sum_squared_deg / poses.gt_rotations.size());
+  metrics->rot_max_deg = max_deg;
   if (alignment == Alignment::kSim3) metrics->scale = gt_from_est.scale;
 }
 

@@ -149,6 +149,28 @@ TEST(TrajectoryMetrics, RigidCopyHasZeroErrorsUnderSe3) {
   EXPECT_NEAR(*metrics.distance_error_pct, 0.0, 1e-9);
   ASSERT_TRUE(metrics.rpe_1m_pct);
   EXPECT_LT(*metrics.rpe_1m_pct, 1e-9);
+  EXPECT_LT(metrics.rot_max_deg, 1e-6);
+}
+
+// Right positions, cameras turned: the orientation error is the turn, which ATE cannot see.
+TEST(TrajectoryMetrics, OrientationErrorIsTheAngleOfTheCamerasTurn) {
+  const Trajectory gt = Helix(60);
+  Trajectory est = gt;
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    // A turn growing to 3 degrees about each camera's own axis (a drifting roll).
+    const double angle = 3.0 * M_PI / 180.0 * i / (est.size() - 1);
+    est[i].rotation = est[i].rotation * Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ());
+  }
+  const Metrics metrics =
+      EvaluateTrajectory(gt, Transformed(est, kRotation, kTranslation, 1.0), {});
+  EXPECT_LT(metrics.ate_max_m, 1e-9);
+  EXPECT_NEAR(metrics.rot_max_deg, 3.0, 1e-9);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    const double angle = 3.0 * i / (est.size() - 1);
+    sum += angle * angle;
+  }
+  EXPECT_NEAR(metrics.rot_rmse_deg, std::sqrt(sum / est.size()), 1e-9);
 }
 
 TEST(TrajectoryMetrics, StraightRigidCopyHasZeroAteDespiteDegenerateAlignment) {
