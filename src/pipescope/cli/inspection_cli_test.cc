@@ -106,6 +106,27 @@ TEST_F(InspectionCli, LocateFindsTrueWallPoints) {
             15);
 }
 
+// Seeds not used while writing locate (23, 37), and out and back: on the way back the survey
+// direction, and so each wall point's distance and clock position, must stay those of the way out.
+TEST_F(InspectionCli, LocateHoldsOnOtherSeedsAndOnTheWayBack) {
+  for (const int seed : {23, 37}) {
+    const std::string dataset = Path("ds" + std::to_string(seed));
+    const std::string run = Path("run" + std::to_string(seed));
+    const CommandResult simulate =
+        RunPipescope("simulate --preset steel-16in --out " + dataset +
+                     " --frames 150 --set out_and_back=true --set white_card_count=2 --seed " +
+                     std::to_string(seed) + " -q");
+    ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+    const CommandResult odometry =
+        RunPipescope("odometry " + dataset + " --method dense-unrolled --out " + run + " -q");
+    ASSERT_EQ(odometry.exit_status, 0) << odometry.output;
+    EXPECT_GE(CheckLocateAgainstTruth(dataset, run, 0.19378, {10, 70, 140}, 120.0, 240.0, -0.1, 0.2,
+                                      Path("at.json")),
+              15)
+        << "seed " << seed;
+  }
+}
+
 TEST_F(InspectionCli, LocateRefusesWhatItCannotPlace) {
   const CommandResult no_pose =
       RunPipescope("locate " + Path("run") + " --frame 5000 --pixel 320,240");

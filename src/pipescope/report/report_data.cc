@@ -1,5 +1,7 @@
 #include "pipescope/report/report_data.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -75,8 +77,11 @@ std::optional<DatasetManifest> ReportDataset(const RunFiles& run, const ReportOp
       overrides.inner_radius_m = run.radius_m;
     }
     return OpenDataset(dataset, overrides);
-  } catch (const InputError&) {
-    return std::nullopt;  // the dataset changed since the run: show the run alone
+  } catch (const InputError& error) {
+    // The dataset changed since the run: the report shows the run alone, and says why.
+    spdlog::warn("the report shows no ground truth or frame crops: {} (give --dataset)",
+                 error.what());
+    return std::nullopt;
   }
 }
 
