@@ -17,6 +17,8 @@
 #include "pipescope/io/trajectory.h"
 #include "pipescope/pipeline/dense_vo.h"
 #include "pipescope/pipeline/dense_vo_config.h"
+#include "pipescope/pipeline/ekf_vo.h"
+#include "pipescope/pipeline/ekf_vo_config.h"
 #include "pipescope/pipeline/sparse_vo.h"
 #include "pipescope/pipeline/sparse_vo_config.h"
 #include "pipescope/report/run_directory.h"
@@ -61,7 +63,9 @@ void ListKeys() {
   std::cout << "Keys of --config FILE for the dense methods (default, range, help):\n"
             << DenseVoOptionTable().ListKeys(DenseOdometerOptions{})
             << "\nKeys of --config FILE for --method sparse:\n"
-            << SparseVoOptionTable().ListKeys(SparseVoOptions{});
+            << SparseVoOptionTable().ListKeys(SparseVoOptions{})
+            << "\nKeys of --config FILE for --method ekf:\n"
+            << EkfVoOptionTable().ListKeys(EkfVoOptions{});
 }
 
 // 000 §5: sparse VO on the cylinder; writes key frames and the sparse point cloud as well.
@@ -146,6 +150,123 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   return kExitSuccess;
 }
 
+// run.json's `sections` of an ekf run: the geometry in the run's frame and where each lies along
+// the centreline.
+nlohmann::json EkfSectionsJson(const EkfVoResult& result) {
+  nlohmann::json sections = nlohmann::json::array();
+  for (std::size_t i = 0; i < result.sections.size(); ++i) {
+    const EkfSectionRecord& section = result.sections[i];
+    const Eigen::Vector3d& start = section.geometry.start;
+    const Eigen::Vector3d& axis = section.geometry.axis;
+    const double length = section.end_arc_m - section.start_arc_m;
+    const Eigen::Vector3d centre = start + 0.5 * length * axis;
+    sections.push_back({{"index", i},
+                        {"centre_m", {centre.x(), centre.y(), centre.z()}},
+                        {"start_m", {start.x(), start.y(), start.z()}},
+                        {"axis", {axis.x(), axis.y(), axis.z()}},
+                        {"radius_m", section.geometry.Radius()},
+                        {"start_along_m", section.start_arc_m},
+                        {"end_along_m", section.end_arc_m},
+                        {"first_frame", section.first_frame},
+                        {"reason", section.reason}});
+  }
+  return sections;
+}
+
+// Innovation statistics over the updated frames: median and worst of the per-frame figures.
+nlohmann::json EkfInnovationJson(const EkfVoResult& result) {
+  std::vector<double> rms, nis, used, gated_share;
+  for (const EkfFrameRecord& frame : result.frames) {
+    if (!frame.update.updated) continue;
+    rms.push_back(frame.update.rms_innovation_px);
+    nis.push_back(frame.update.mean_nis);
+    used.push_back(frame.update.used);
+    const int considered = frame.update.used + frame.update.gated;
+    gated_share.push_back(considered > 0 ? double(frame.update.gated) / considered : 0.0);
+  }
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  auto worst = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+  };
+  auto fewest = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end());
+  };
+  return {{"updated_frames", rms.size()},
+          {"rms_px_median", median(rms)},
+          {"rms_px_max", worst(rms)},
+          {"mean_nis_median", median(nis)},
+          {"mean_nis_max", worst(nis)},
+          {"features_used_median", median(used)},
+          {"features_used_min", fewest(used)},
+          {"gated_share_median", median(gated_share)},
+          {"gated_share_max", worst(gated_share)}};
+}
+
+// 004: the tubular EKF; writes the sections, the centreline and the dewarped mosaic as well.
+int RunEkfOdometry(const OdometryFlags& flags) {
+  DatasetManifest manifest = OpenRunDataset(flags);
+  EkfVoOptions options;
+  if (!flags.config.empty()) EkfVoOptionTable().ApplyYamlFile(flags.config, &options);
+  const Camera camera = ReadCamera(manifest.camera_path);
+  RunDirectory run(flags.out, "odometry", "ekf");
+  run.SetDataset(manifest);
+  run.SetWriteReport(!flags.no_report);
+  run.SetSurveyLine(SurveyLine::kTravelledPath);
+
+  const EkfVoResult result = RunEkfVo(manifest, camera, options);
+
+  RunReport& report = run.report();
+  report.SetOptions(EkfVoOptionTable().ToJson(options));
+  report.SetCount("frames",
+                  static_cast<long long>(result.frames.size() + result.skipped_frames.size()));
+  report.SetCount("frames_localised", static_cast<long long>(result.trajectory.size()));
+  report.SetCount("frames_unreadable", static_cast<long long>(result.skipped_frames.size()));
+  report.SetCount("sections", static_cast<long long>(result.sections.size()));
+  report.AddTiming("odometry", result.odometry_seconds);
+  report.AddTiming("odometry_cpu", result.odometry_cpu_seconds);
+  report.AddStageTimes("odometry", result.stage_times);
+  report.AddTiming("mosaic", result.mosaic_seconds);
+  report.Extra("failed_frames") = FailedFramesJson(result.frames);
+  report.Extra("unreadable_frames") = result.skipped_frames;
+  report.Extra("sections") = EkfSectionsJson(result);
+  report.Extra("innovation") = EkfInnovationJson(result);
+  report.Extra("centreline_length_m") = result.centreline.Length();
+  report.Extra("scale") =
+      result.metric ? "metric: the first section's radius has the dataset's radius as its prior"
+                    : "up to scale: the first section's radius is 1";
+  if (!result.metric) {
+    report.Warn("the run is up to scale (metric: false); distances are in units of the radius");
+  }
+  std::vector<FrameState> states;
+  for (const EkfFrameRecord& frame : result.frames) {
+    if (frame.failure == "saturated") {
+      states.push_back(FrameState::kNotLocalised);
+    } else {
+      states.push_back(frame.failure.empty() ? FrameState::kMeasured : FrameState::kPredicted);
+    }
+  }
+  states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
+  run.SetQuality(states);
+  run.WriteTrajectory(result.trajectory);
+  run.WriteMosaic(result.mosaic, "unrolled", result.mosaic_pixel_m,
+                  cv::Point2d(result.mosaic_begin_m, 0.0));
+  WriteCentrelineCsv(run.staging_path() / "centreline.csv", result.centreline);
+  WriteCentrelinePly(run.staging_path() / "centreline.ply", result.centreline);
+  WriteMetricsIfGroundTruth(manifest, result.trajectory, &run);
+  run.Commit();
+  spdlog::info(
+      "ekf: {} frames localised, {} sections, centreline {:.3f} m, in {:.1f} s "
+      "({:.1f} frames/s); wrote {}",
+      result.trajectory.size(), result.sections.size(), result.centreline.Length(),
+      result.odometry_seconds, result.frames.size() / std::max(1e-9, result.odometry_seconds),
+      flags.out);
+  return kExitSuccess;
+}
+
 int RunOdometry(const OdometryFlags& flags) {
   if (flags.list_keys) {
     ListKeys();
@@ -153,12 +274,13 @@ int RunOdometry(const OdometryFlags& flags) {
   }
   if (flags.method.empty()) throw InputError("flag --method is required");
   if (flags.method == "sparse") return RunSparseOdometry(flags);
+  if (flags.method == "ekf") return RunEkfOdometry(flags);
   const std::vector<std::string> dense = DenseMethodNames();
   if (std::find(dense.begin(), dense.end(), flags.method) == dense.end()) {
     std::string valid;
     for (const std::string& name : dense) valid += name + ", ";
     throw InputError("--method: unknown method '" + flags.method + "' (valid: " + valid +
-                     "sparse)");
+                     "sparse, ekf)");
   }
   DatasetManifest manifest = OpenRunDataset(flags);
   DenseOdometerOptions options;
@@ -241,7 +363,7 @@ SubcommandRunner SetupOdometryCommand(CLI::App* command) {
   std::string methods;
   for (const std::string& name : DenseMethodNames())
     methods += (methods.empty() ? "" : " | ") + name;
-  methods += " | sparse";
+  methods += " | sparse | ekf";
   command->add_option("--method", flags->method, "Odometry method: " + methods);
   return [flags] { return RunOdometry(*flags); };
 }

@@ -93,7 +93,9 @@ void RunDirectory::SetDataset(const DatasetManifest& manifest) {
 
 void RunDirectory::WriteStations(const Trajectory& trajectory) {
   StationOptions options;
-  options.line = command_ == "map" ? SurveyLine::kTravelledPath : SurveyLine::kStraightAxis;
+  options.line = survey_line_        ? *survey_line_
+                 : command_ == "map" ? SurveyLine::kTravelledPath
+                                     : SurveyLine::kStraightAxis;
   const Eigen::Matrix3d first_rotation = trajectory.front().rotation.toRotationMatrix();
   std::string up_source;
   if (dataset_->pipe_up && options.line == SurveyLine::kStraightAxis) {

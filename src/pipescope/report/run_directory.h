@@ -65,6 +65,10 @@ class RunDirectory {
   // counts in metrics.json (call it before WriteMetrics). Returns the assessment.
   RunQuality SetQuality(const std::vector<FrameState>& states);
 
+  // How stations.csv measures distance: by default along the straight axis for `odometry`, along
+  // the travelled path for `map`; a method through bends (ekf) asks for the path.
+  void SetSurveyLine(SurveyLine line) { survey_line_ = line; }
+
   // Whether Commit() writes report.html (the default; --no-report turns it off).
   void SetWriteReport(bool write) { write_report_ = write; }
 
@@ -81,6 +85,7 @@ class RunDirectory {
   std::string command_;
   std::optional<DatasetManifest> dataset_;
   bool write_report_ = true;
+  std::optional<SurveyLine> survey_line_;
 
   // stations.csv and run.json's `inspection` block (GUIDE §4 inspection coordinates).
   void WriteStations(const Trajectory& trajectory);

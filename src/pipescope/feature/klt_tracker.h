@@ -1,0 +1,58 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace pipescope {
+
+// Frame-to-frame feature tracking for the tubular EKF (004 §4 detects and matches features; a
+// filter that updates every frame needs the pairs of consecutive frames, which pyramidal
+// Lucas-Kanade gives at a fraction of the cost of descriptor matching). Corners are spread over
+// a grid so every part of the wall speaks (004 §4: "an unbalanced number of features around the
+// camera" biases the rotation), and a track survives only if tracking back lands where it came
+// from.
+struct KltTrackerOptions {
+  int max_features = 160;
+  // Grid of cells over the image; each cell is topped up to max_features / cells.
+  int grid_cols = 8;
+  int grid_rows = 6;
+  // cv::goodFeaturesToTrack: minimum eigenvalue relative to the cell's best, and spacing.
+  double quality_level = 0.01;
+  double min_distance_px = 10.0;
+  // cv::calcOpticalFlowPyrLK.
+  int window_px = 21;
+  int pyramid_levels = 3;
+  // Forward-backward check: the backward track must return within this distance.
+  double max_round_trip_px = 0.5;
+  // Features closer than this to the border are dropped.
+  int border_px = 8;
+  // Pixels darker than this (grey levels) take no new corners: the unlit depth of a forward view.
+  double min_grey = 12.0;
+};
+
+struct KltPair {
+  cv::Point2f previous;
+  cv::Point2f current;
+  long track_id = 0;
+};
+
+class KltTracker {
+ public:
+  explicit KltTracker(const KltTrackerOptions& options = {});
+
+  // Tracks the previous frame's corners into `grey8` (CV_8U) and returns the pairs that passed
+  // the round trip; then tops the corners up for the next frame. The first call returns none.
+  std::vector<KltPair> Track(const cv::Mat& grey8);
+
+ private:
+  void TopUp(const cv::Mat& grey8);
+
+  KltTrackerOptions options_;
+  std::vector<cv::Mat> previous_pyramid_;
+  cv::Mat previous_;
+  std::vector<cv::Point2f> points_;
+  std::vector<long> ids_;
+  long next_id_ = 0;
+};
+
+}  // namespace pipescope

@@ -1,0 +1,86 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/estimation/tubular_ekf.h"
+#include "pipescope/feature/klt_tracker.h"
+#include "pipescope/io/dataset.h"
+#include "pipescope/io/trajectory.h"
+#include "pipescope/mapping/tube_centreline.h"
+#include "pipescope/mapping/tube_mosaic.h"
+#include "pipescope/util/stage_times.h"
+
+namespace pipescope {
+
+// 004: tubular EKF SLAM with a dewarped mosaic, for a camera carried through straight and bent
+// tubes.
+struct EkfVoOptions {
+  KltTrackerOptions tracker;
+  TubularEkfOptions filter;
+  // The camera axis that runs along the tube at the start: "z" for a camera looking down the
+  // tube (004's set-up), "x", "y" for a camera looking at the wall (000's; the sign does not
+  // matter to a cylinder).
+  std::string axis_along_tube = "z";
+  // Use the dataset's radius as the prior on the first section's log rho (metric run); false:
+  // the run is up to scale (radius 1).
+  bool metric = true;
+  bool build_mosaic = true;
+  TubeMosaicOptions mosaic;
+  // Frames painted into the mosaic are at least this far apart along the centreline (radii).
+  double mosaic_frame_spacing_radii = 0.1;
+  double max_saturated_fraction = 0.2;
+  double saturation_level = 250.0;
+};
+
+struct EkfFrameRecord {
+  std::size_t index = 0;
+  double timestamp = 0.0;
+  std::string name;
+  int tracked = 0;  // feature pairs from the previous frame
+  TubularEkfUpdate update;
+  int section = 0;      // the newest section at this frame
+  std::string failure;  // why the frame kept its prediction; empty when updated
+};
+
+struct EkfSectionRecord {
+  TubeSection geometry;      // in the output frame
+  int first_frame = 0;       // frame index at which the filter started it
+  double start_arc_m = 0.0;  // along the centreline
+  double end_arc_m = 0.0;
+  std::string reason;
+};
+
+struct EkfVoResult {
+  // Every frame the filter went through, world_from_cam, in the first section's frame: Z along
+  // its axis, the origin the first camera's foot on it, X towards phi = 0 (the pipe's up when the
+  // dataset gives it, else the first camera's -y).
+  Trajectory trajectory;
+  std::vector<EkfFrameRecord> frames;
+  std::vector<std::string> skipped_frames;
+  std::vector<EkfSectionRecord> sections;
+  TubeCentreline centreline;
+  std::vector<double> frame_arc_m;  // each trajectory pose's distance along the centreline
+  bool metric = true;
+  cv::Mat mosaic;  // CV_32F, NaN unseen; rows around the tube (r phi), columns along it
+  double mosaic_pixel_m = 0.0;
+  double mosaic_begin_m = 0.0;
+  StageTimes stage_times;  // "read", "track", "filter"
+  double odometry_seconds = 0.0;
+  double odometry_cpu_seconds = 0.0;
+  double mosaic_seconds = 0.0;
+};
+
+// Runs the filter over the dataset's frames. Throws InputError for an unknown axis_along_tube
+// or, when metric, a dataset without pipe.inner_radius_m.
+EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
+                     const EkfVoOptions& options);
+
+// The rigid transform from the filter's world (the first camera's frame) to the output frame.
+Eigen::Isometry3d TubeFrameFromWorld(const TubeSection& first_section,
+                                     const Eigen::Vector3d& first_position,
+                                     const Eigen::Vector3d& phi_zero);
+
+}  // namespace pipescope
