@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -206,6 +208,17 @@ nlohmann::json EkfInnovationJson(const EkfVoResult& result) {
           {"gated_share_max", worst(gated_share)}};
 }
 
+// Largest relative disagreement between a section's fitted radius and the dataset's before the
+// run is called unreliable. Straight runs stay within 1 %; the bends whose distance came out more
+// than 2 % off had a section 4-5 % off (docs/ekf.md).
+constexpr double kEkfMaxRadiusDisagreement = 0.03;
+
+std::string FormatPercent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%+.1f %%", 100.0 * fraction);
+  return text;
+}
+
 // 004: the tubular EKF; writes the sections, the centreline and the dewarped mosaic as well.
 int RunEkfOdometry(const OdometryFlags& flags) {
   DatasetManifest manifest = OpenRunDataset(flags);
@@ -235,6 +248,10 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   report.Extra("sections") = EkfSectionsJson(result);
   report.Extra("innovation") = EkfInnovationJson(result);
   report.Extra("centreline_length_m") = result.centreline.Length();
+  // The distance the camera travelled along the tube: its last foot on the centreline from its
+  // first.
+  report.Extra("distance_along_centreline_m") =
+      result.frame_arc_m.empty() ? 0.0 : result.frame_arc_m.back() - result.frame_arc_m.front();
   report.Extra("scale") =
       result.metric ? "metric: the first section's radius has the dataset's radius as its prior"
                     : "up to scale: the first section's radius is 1";
@@ -250,7 +267,30 @@ int RunEkfOdometry(const OdometryFlags& flags) {
     }
   }
   states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
-  run.SetQuality(states);
+  // A section whose fitted radius leaves the dataset's is a section the chain of straight
+  // cylinders did not explain (a bend followed too coarsely, a misplaced junction): the distance
+  // through it is off by about as much (docs/ekf.md).
+  std::vector<std::string> model_reasons;
+  if (result.metric && manifest.inner_radius_m) {
+    int off_sections = 0, worst = 0;
+    double worst_off = 0.0;
+    for (std::size_t i = 0; i < result.sections.size(); ++i) {
+      const double off = result.sections[i].geometry.Radius() / *manifest.inner_radius_m - 1.0;
+      if (std::abs(off) > kEkfMaxRadiusDisagreement) ++off_sections;
+      if (std::abs(off) > std::abs(worst_off)) {
+        worst_off = off;
+        worst = static_cast<int>(i);
+      }
+    }
+    if (off_sections > 0) {
+      model_reasons.push_back(
+          std::to_string(off_sections) + " of " + std::to_string(result.sections.size()) +
+          " sections have a fitted radius more than " + FormatPercent(kEkfMaxRadiusDisagreement) +
+          " off the dataset's (worst: section " + std::to_string(worst) + ", " +
+          FormatPercent(worst_off) + "): the tube model does not explain the images there");
+    }
+  }
+  run.SetQuality(states, model_reasons);
   run.WriteTrajectory(result.trajectory);
   run.WriteMosaic(result.mosaic, "unrolled", result.mosaic_pixel_m,
                   cv::Point2d(result.mosaic_begin_m, 0.0));

@@ -60,7 +60,7 @@ void TubeMosaic::AddFrame(const cv::Mat& grey, const Camera& camera,
         const double phi = 2.0 * M_PI * (row + 0.5) / image_.rows;
         const Eigen::Vector3d wall =
             frame.point +
-            frame.radius_m * (std::cos(phi) * frame.normal + std::sin(phi) * frame.binormal);
+            frame.radius_m * (std::cos(phi) * frame.normal - std::sin(phi) * frame.binormal);
         Eigen::Vector2d pixel;
         if (camera.Project(cam_from_world * wall, &pixel) != ProjectionStatus::kValid) continue;
         if (pixel.x() < low || pixel.y() < low || pixel.x() > high_u || pixel.y() > high_v)

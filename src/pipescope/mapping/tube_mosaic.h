@@ -26,8 +26,10 @@ struct TubeMosaicOptions {
 
 class TubeMosaic {
  public:
-  // Covers arc lengths [begin_m, end_m] of the centreline; rows run around the tube (row 0 at
-  // phi = 0, the centreline's normal), columns along it.
+  // Covers arc lengths [begin_m, end_m] of the centreline; columns run along it, rows around the
+  // tube from phi = 0 (the centreline's normal) towards -binormal: counter-clockwise looking in
+  // the direction of travel (12, 9, 6, 3 o'clock with the normal up), so that the wall reads
+  // as seen from inside, lettering the right way round.
   TubeMosaic(const TubeCentreline& centreline, double begin_m, double end_m,
              const TubeMosaicOptions& options);
 

@@ -121,7 +121,8 @@ TEST(TubeMosaic, DewarpedFrameMatchesTheSimulatorsTexture) {
     for (int col = 0; col < image.cols; ++col) {
       if (std::isnan(image.at<float>(row, col))) continue;
       const double h = mosaic.begin_m() + (col + 0.5) * mosaic.pixel_m();
-      const double s = circumference * (row + 0.5) / image.rows;
+      // Rows turn from +X towards -Y: the scene's phi (from +X towards +Y) runs the other way.
+      const double s = circumference * (1.0 - (row + 0.5) / image.rows);
       albedo.at<float>(row, col) = simulation.texture().Albedo(0, h, s, circumference, 0.002);
       seen.at<uchar>(row, col) = 255;
     }

@@ -245,8 +245,13 @@ std::optional<Metrics> RunDirectory::WriteMetrics(const Trajectory& ground_truth
   return metrics;
 }
 
-RunQuality RunDirectory::SetQuality(const std::vector<FrameState>& states) {
+RunQuality RunDirectory::SetQuality(const std::vector<FrameState>& states,
+                                    const std::vector<std::string>& model_reasons) {
   quality_ = AssessRunQuality(states);
+  for (const std::string& reason : model_reasons) {
+    quality_->reliable = false;
+    quality_->reasons.push_back(reason);
+  }
   report_.Extra("quality") = RunQualityJson(*quality_);
   if (quality_->reliable) {
     spdlog::info("{}", RunQualitySummary(*quality_));

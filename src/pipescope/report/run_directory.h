@@ -63,7 +63,10 @@ class RunDirectory {
   // The run's quality from each frame's state (report/run_quality.h): the `quality` block of
   // run.json, a warning when the run is unreliable, the summary line on the terminal, and the
   // counts in metrics.json (call it before WriteMetrics). Returns the assessment.
-  RunQuality SetQuality(const std::vector<FrameState>& states);
+  // `model_reasons`: what the method found wrong with its own result beyond the frame states (a
+  // fitted model that disagrees with the dataset); each makes the run unreliable.
+  RunQuality SetQuality(const std::vector<FrameState>& states,
+                        const std::vector<std::string>& model_reasons = {});
 
   // How stations.csv measures distance: by default along the straight axis for `odometry`, along
   // the travelled path for `map`; a method through bends (ekf) asks for the path.
