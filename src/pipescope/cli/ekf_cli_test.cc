@@ -74,12 +74,16 @@ TEST_F(EkfCli, WritesSectionsCentrelineAndMosaic) {
   EXPECT_NE(ply.find("element vertex " + std::to_string(vertices)), std::string::npos);
   EXPECT_NE(ply.find("element edge " + std::to_string(vertices - 1)), std::string::npos);
 
+  EXPECT_EQ(report["mosaic"]["kind"], "tube-unrolled");
+  // A hundredth of the (estimated) radius.
+  EXPECT_NEAR(report["mosaic"]["pixel_m"].get<double>(), 0.001, 2e-5);
   const cv::Mat mosaic = cv::imread(run + "/mosaic.png", cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(mosaic.empty());
   // Rows around the tube: 2 pi r at a hundredth of the radius a cell.
   EXPECT_NEAR(mosaic.rows, 2.0 * M_PI * 100.0, 2.0);
   EXPECT_TRUE(std::filesystem::exists(run + "/stations.csv"));
-  EXPECT_TRUE(std::filesystem::exists(run + "/report.html"));
+  const std::string page = ReadTextFile(run + "/report.html");
+  EXPECT_NE(page.find("Dewarped tube (along the centreline)"), std::string::npos);
 }
 
 TEST_F(EkfCli, BadConfigExitsTwoAndNamesTheKey) {

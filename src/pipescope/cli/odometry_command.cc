@@ -292,7 +292,9 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   }
   run.SetQuality(states, model_reasons);
   run.WriteTrajectory(result.trajectory);
-  run.WriteMosaic(result.mosaic, "unrolled", result.mosaic_pixel_m,
+  // Not "unrolled": that names a straight pipe's (h, r phi) map, which the report lays on one
+  // cylinder.
+  run.WriteMosaic(result.mosaic, "tube-unrolled", result.mosaic_pixel_m,
                   cv::Point2d(result.mosaic_begin_m, 0.0));
   WriteCentrelineCsv(run.staging_path() / "centreline.csv", result.centreline);
   WriteCentrelinePly(run.staging_path() / "centreline.ply", result.centreline);

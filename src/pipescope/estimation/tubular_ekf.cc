@@ -64,6 +64,7 @@ TubularEkf::TubularEkf(const Camera& camera, const Eigen::Isometry3d& world_from
   first.geometry.axis = (rotation_ * axis_in_camera.normalized()).normalized();
   first.geometry.log_radius = std::log(radius);
   first.reason = "start";
+  first.basis = OrthogonalBasis(first.geometry.axis);
   sections_.push_back(first);
 
   covariance_ = Eigen::MatrixXd::Zero(kCameraSize + kSectionSize, kCameraSize + kSectionSize);
@@ -186,7 +187,7 @@ bool TubularEkf::PredictPixel(const Eigen::Vector3d& previous_bearing, Eigen::Ve
   const int section_index = SectionOfRay(origin, direction);
   if (section_index < 0) return false;
   const TubeSection& section = sections_[section_index].geometry;
-  const Eigen::Matrix<double, 3, 2> basis = OrthogonalBasis(section.axis);
+  const Eigen::Matrix<double, 3, 2>& basis = sections_[section_index].basis;
 
   Jet e[kLocalSize];
   for (int i = 0; i < kLocalSize; ++i) e[i] = Jet(0.0, i);
@@ -245,11 +246,14 @@ void TubularEkf::Inject(const Eigen::VectorXd& delta) {
       (previous_rotation_ * ExpRotation(delta.segment<3>(kPreviousRotation))).normalized();
   for (int i = first_active_; i < static_cast<int>(sections_.size()); ++i) {
     TubeSection& section = sections_[i].geometry;
+    Eigen::Matrix<double, 3, 2>& basis = sections_[i].basis;
     const int offset = StateOffsetOfSection(i);
-    const Eigen::Matrix<double, 3, 2> basis = OrthogonalBasis(section.axis);
     section.start += basis * delta.segment<2>(offset);
     section.axis = (section.axis + basis * delta.segment<2>(offset + 2)).normalized();
     section.log_radius += delta[offset + 4];
+    // Turn the basis with the axis (the smallest rotation): project and re-orthonormalise.
+    basis.col(0) = (basis.col(0) - basis.col(0).dot(section.axis) * section.axis).normalized();
+    basis.col(1) = section.axis.cross(basis.col(0));
   }
 }
 
@@ -411,11 +415,11 @@ bool TubularEkf::MaybeStartSection(const TubularEkfUpdate& update) {
   const bool drifting = update.track_drift_px > options_.spawn_track_drift_px;
   unexplained_run_ =
       gated_fraction > options_.spawn_gated_fraction || drifting ? unexplained_run_ + 1 : 0;
+  const TubeSection& current = sections_.back().geometry;
+  const double travel = velocity_.dot(current.axis) >= 0.0 ? 1.0 : -1.0;
   if (unexplained_run_ < options_.spawn_frames) return false;
   // The new section starts ahead of the camera, where the features that misfit lie; the
   // current one must keep a useful length.
-  const TubeSection& current = sections_.back().geometry;
-  const double travel = velocity_.dot(current.axis) >= 0.0 ? 1.0 : -1.0;
   double junction = current.AxialCoordinate(position_) +
                     travel * options_.spawn_lookahead_radii * current.Radius();
   if (drifting) {
@@ -472,6 +476,7 @@ void TubularEkf::StartSection(double junction, double travel, const std::string&
   next.geometry.start = current.start + junction * current.axis;
   next.first_frame = updates_;
   next.reason = reason;
+  next.basis = OrthogonalBasis(next.geometry.axis);
   sections_.push_back(next);
 
   const int n = StateSize();

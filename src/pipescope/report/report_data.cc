@@ -218,6 +218,16 @@ json MosaicsJson(const RunFiles& run) {
                 {"note", ""}};
   const bool unrolled = mosaic.value("kind", "") == "unrolled" && mosaic["pixel_m"].is_number() &&
                         run.station_options.line == SurveyLine::kStraightAxis;
+  if (mosaic.value("kind", "") == "tube-unrolled") {
+    // ekf: the tube dewarped along its estimated centreline, through the bends.
+    entry["title"] = "Dewarped tube (along the centreline)";
+    entry["note"] =
+        "Columns run along the estimated centreline through the bends, rows around the tube "
+        "from 12 o'clock through 9, 6 and 3 (docs/ekf.md); distance on it is the centreline's, "
+        "not the survey line's, so it carries no ruler here.";
+    mosaics.push_back(entry);
+    return mosaics;
+  }
   if (!unrolled) {
     entry["title"] = "Appearance map (image space)";
     entry["note"] =
