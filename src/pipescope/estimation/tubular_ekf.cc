@@ -462,9 +462,8 @@ void TubularEkf::StartSection(double junction, double travel, const std::string&
     const TubeSection& before = sections_[count - 2].geometry;
     const double spacing = (current.start - before.start).norm();
     if (spacing > 1e-9) {
-      const Eigen::Vector3d turn_axis_angle =
-          Eigen::AngleAxisd(Eigen::Quaterniond::FromTwoVectors(before.axis, current.axis)).angle() *
-          Eigen::AngleAxisd(Eigen::Quaterniond::FromTwoVectors(before.axis, current.axis)).axis();
+      const Eigen::AngleAxisd turn(Eigen::Quaterniond::FromTwoVectors(before.axis, current.axis));
+      const Eigen::Vector3d turn_axis_angle = turn.angle() * turn.axis();
       const double fraction = std::min(2.0, std::abs(junction) / spacing);
       next.geometry.axis =
           (ExpRotation(fraction * turn_axis_angle) * next.geometry.axis).normalized();
