@@ -209,8 +209,8 @@ nlohmann::json EkfInnovationJson(const EkfVoResult& result) {
 }
 
 // Largest relative disagreement between a section's fitted radius and the dataset's before the
-// run is called unreliable. Straight runs stay within 1 %; the bends whose distance came out more
-// than 2 % off had a section 4-5 % off (docs/ekf.md).
+// run is called unreliable. Straight runs stay within 0.6 %; the two bend runs whose distance
+// along the centreline came out more than 2 % off had a section 5.0 % and 7.3 % off (docs/ekf.md).
 constexpr double kEkfMaxRadiusDisagreement = 0.03;
 
 std::string FormatPercent(double fraction) {
