@@ -150,14 +150,15 @@ int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin,
   // The chain: section i covers its axis from its junction with i - 1 to its junction with
   // i + 1; the first and last are open-ended. Start at the camera's section.
   const int count = static_cast<int>(sections_.size());
-  std::vector<Eigen::Vector3d> junctions(count);  // junctions[i]: between i - 1 and i
-  for (int i = 1; i < count; ++i) {
-    junctions[i] = SectionJunction(sections_[i - 1].geometry, sections_[i].geometry);
-  }
+  // junction(i): between sections i - 1 and i. Computed where looked at, from the newest end:
+  // the chain grows with the tube, and this runs for every feature of every update.
+  auto junction = [&](int i) {
+    return SectionJunction(sections_[i - 1].geometry, sections_[i].geometry);
+  };
   int first = 0;
   for (int i = count - 1; i > 0; --i) {
     const TubeSection& section = sections_[i].geometry;
-    if (section.AxialCoordinate(origin) >= section.AxialCoordinate(junctions[i])) {
+    if (section.AxialCoordinate(origin) >= section.AxialCoordinate(junction(i))) {
       first = i - 1;
       break;
     }
@@ -171,8 +172,8 @@ int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin,
     }
     const Eigen::Vector3d point = origin + alpha * direction;
     const double along = section.AxialCoordinate(point);
-    if (i > 0 && along < section.AxialCoordinate(junctions[i])) continue;
-    if (i + 1 < count && along > section.AxialCoordinate(junctions[i + 1])) continue;
+    if (i > 0 && along < section.AxialCoordinate(junction(i))) continue;
+    if (i + 1 < count && along > section.AxialCoordinate(junction(i + 1))) continue;
     const double range = std::abs(section.axis.dot(point - origin));
     if (range > options_.max_range_radii * section.Radius()) return -1;
     return i;
