@@ -53,9 +53,11 @@ WindowAdjustmentSummary AdjustWindow(const Camera& camera, double radius_m,
   if (options.cross_section_anchor_sigma_m > 0.0) {
     for (std::size_t a = 0; a < count; ++a) {
       if ((*key_frames)[a].fixed || !problem.HasParameterBlock(positions[a].data())) continue;
+      ceres::LossFunction* loss =
+          options.cross_section_anchor_robust ? new ceres::CauchyLoss(1.0) : nullptr;
       problem.AddResidualBlock(CrossSectionAnchorCost::Create(options.cross_section_anchor_xy,
                                                               options.cross_section_anchor_sigma_m),
-                               nullptr, positions[a].data());
+                               loss, positions[a].data());
     }
   }
   for (std::size_t a = 0; a < count; ++a) {

@@ -32,6 +32,10 @@ struct WindowAdjustmentOptions {
   // towards cross_section_anchor_xy (the measured start); 0: none.
   double cross_section_anchor_sigma_m = 0.0;
   Eigen::Vector2d cross_section_anchor_xy = Eigen::Vector2d::Zero();
+  // A Cauchy loss of scale 1 on the anchor's residual: within sigma it holds like the Gaussian
+  // prior, beyond it its pull fades (as 1/offset), so reprojections that see the wall's curvature
+  // overrule it while views that cannot see it keep the start's level.
+  bool cross_section_anchor_robust = false;
 };
 
 struct WindowKeyFrame {

@@ -117,6 +117,10 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           "cross_section_anchor_sigma_m",
           [](O& o) -> double& { return o.odometer.window.cross_section_anchor_sigma_m; }, 0.0, 1.0,
           "m", "window adjustment: sigma holding key frames to the measured start, 0 = off"),
+      Flag<O>(
+          "cross_section_anchor_robust",
+          [](O& o) -> bool& { return o.odometer.window.cross_section_anchor_robust; },
+          "the anchor's pull fades beyond its sigma (Cauchy), so the images can overrule it"),
       Number<O>(
           "min_correspondences", [](O& o) -> int& { return o.min_correspondences; }, 6, 100000, "",
           "fewest inlier correspondences to localise a frame"),

@@ -51,6 +51,7 @@ MotionOptions MotionOptionsFor(const SimulationConfig& config, const Layout& lay
   options.wobble_deg = config.wobble_deg;
   options.heading_deg = config.heading_deg;
   options.wobble_wavelength_m = config.wobble_wavelength_m;
+  options.wander_wavelength_m = config.wander_wavelength_m;
   options.seed = config.seed;
   return options;
 }

@@ -110,6 +110,8 @@ const OptionTable<SimulationConfig>& SimulationOptionTable() {
       Field<C>("heading_deg", &C::heading_deg, "amplitude of slow turning (yaw), deg"),
       Field<C>("wobble_wavelength_m", &C::wobble_wavelength_m,
                "distance over which offsets and wobble change, m"),
+      Field<C>("wander_wavelength_m", &C::wander_wavelength_m,
+               "distance over which the offset from the axis changes, m (0: wobble's)"),
       Field<C>("seed", &C::seed, "random seed for texture and motion"),
   });
   return table;
@@ -222,6 +224,7 @@ void ValidateConfig(const SimulationConfig& c) {
   Require(std::abs(c.mount_offset_m) + std::sqrt(2.0) * c.lateral_offset_m < 0.8 * c.radius_m,
           "mount_offset_m", "plus the lateral sway must keep the camera inside 0.8 radius_m");
   Require(c.wobble_wavelength_m > 0, "wobble_wavelength_m", "must be positive");
+  Require(c.wander_wavelength_m >= 0, "wander_wavelength_m", "must not be negative");
 }
 
 }  // namespace pipescope

@@ -87,6 +87,9 @@ struct SimulationConfig {
   double wobble_deg = 0.5;
   double heading_deg = 0.0;
   double wobble_wavelength_m = 0.5;
+  // Distance over which the offset from the axis changes; 0: wobble_wavelength_m. Longer than a
+  // leg, it is the slow wander a crawler has over metres, a different excursion on each leg.
+  double wander_wavelength_m = 0.0;
 
   std::uint64_t seed = 1;
 };

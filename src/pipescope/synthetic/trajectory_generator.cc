@@ -31,6 +31,11 @@ double StopFactor(double t, const std::vector<double>& stop_starts, double durat
   return factor;
 }
 
+double WanderWavelength(const MotionOptions& options) {
+  return options.wander_wavelength_m > 0.0 ? options.wander_wavelength_m
+                                           : options.wobble_wavelength_m;
+}
+
 }  // namespace
 
 SmoothNoise::SmoothNoise(std::uint64_t seed, double wavelength) {
@@ -61,8 +66,8 @@ TrajectoryGenerator::TrajectoryGenerator(CentrelinePath path, MotionOptions opti
       body_from_cam_(body_from_cam),
       table_dt_(1.0 / (options.fps * kStepsPerFrame)),
       speed_noise_(MixSeed(options.seed, 1), 1.0),  // wavelength in seconds for the speed
-      offset_x_(MixSeed(options.seed, 2), options.wobble_wavelength_m),
-      offset_y_(MixSeed(options.seed, 3), options.wobble_wavelength_m),
+      offset_x_(MixSeed(options.seed, 2), WanderWavelength(options)),
+      offset_y_(MixSeed(options.seed, 3), WanderWavelength(options)),
       roll_(MixSeed(options.seed, 4), 2.0 * options.wobble_wavelength_m),
       pitch_(MixSeed(options.seed, 5), options.wobble_wavelength_m),
       yaw_(MixSeed(options.seed, 6), options.wobble_wavelength_m),

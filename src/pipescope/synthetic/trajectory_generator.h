@@ -26,6 +26,7 @@ struct MotionOptions {
   double wobble_deg = 0.0;        // pitch and yaw wobble
   double heading_deg = 0.0;       // extra slow yaw (a robot turning on the culvert floor, 003)
   double wobble_wavelength_m = 0.5;
+  double wander_wavelength_m = 0.0;  // of the lateral offset; 0: wobble_wavelength_m
   std::uint64_t seed = 1;
 };
 

@@ -77,6 +77,36 @@ TEST(TrajectoryGenerator, WallMountLooksDownWithImageXAlongTheAxis) {
   EXPECT_TRUE(pose.translation().isApprox(Eigen::Vector3d(0, 0, 0.3), 1e-12));
 }
 
+// wander_wavelength_m slows the offset from the axis (a crawler's wander over metres) and leaves
+// the roll and wobble as they were.
+TEST(TrajectoryGenerator, WanderWavelengthSlowsTheOffsetOnly) {
+  MotionOptions options;
+  options.fps = 10.0;
+  options.frames = 400;
+  options.speed_m_s = 0.05;
+  options.travel_m = 3.0;
+  options.lateral_offset_m = 0.004;
+  options.roll_deg = 2.0;
+  options.wobble_deg = 1.0;
+  options.wobble_wavelength_m = 0.5;
+  MotionOptions slow = options;
+  slow.wander_wavelength_m = 2.0;
+  const Trajectory fast_frames =
+      TrajectoryGenerator(StraightPipe(5.0), options, Eigen::Isometry3d::Identity()).Frames();
+  const Trajectory slow_frames =
+      TrajectoryGenerator(StraightPipe(5.0), slow, Eigen::Isometry3d::Identity()).Frames();
+  double fast_change = 0.0, slow_change = 0.0;
+  for (std::size_t i = 1; i < fast_frames.size(); ++i) {
+    fast_change += (fast_frames[i].position - fast_frames[i - 1].position).head<2>().norm();
+    slow_change += (slow_frames[i].position - slow_frames[i - 1].position).head<2>().norm();
+    EXPECT_TRUE(fast_frames[i].rotation.isApprox(slow_frames[i].rotation, 1e-12)) << i;
+    EXPECT_NEAR(fast_frames[i].position.z(), slow_frames[i].position.z(), 1e-12);
+  }
+  // Four times the wavelength: about a quarter of the sideways speed.
+  EXPECT_LT(slow_change, 0.5 * fast_change);
+  EXPECT_GT(slow_change, 0.1 * fast_change);
+}
+
 TEST(SmoothNoise, BoundedAndSmooth) {
   const SmoothNoise noise(42, 0.5);
   double previous = noise(0.0);
