@@ -62,6 +62,15 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
               30 - report["counts"]["pairs_failed"].get<int>());
     EXPECT_EQ(metrics["quality_verdict"], "reliable");
     EXPECT_TRUE(report["failed_frames"].is_array());
+    // The dense methods hold the start's wall distance and say so, in run.json and a warning.
+    EXPECT_EQ(report["wall_distance"]["measured"], false);
+    EXPECT_EQ(report["wall_distance"]["start_from"], "reference_scale_px_per_m");
+    bool warned = false;
+    for (const auto& warning : report["warnings"]) {
+      warned = warned || warning.get<std::string>().find("distance to the wall as fixed") !=
+                             std::string::npos;
+    }
+    EXPECT_TRUE(warned) << report["warnings"].dump();
     const cv::Mat mosaic = cv::imread(run + "/mosaic.png", cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(mosaic.empty()) << method;
     EXPECT_EQ(mosaic.type(), CV_8U);

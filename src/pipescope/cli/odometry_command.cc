@@ -52,6 +52,14 @@ nlohmann::json FailedFramesJson(const std::vector<FrameRecord>& frames) {
   return failed;
 }
 
+// run.json's wall_distance, and a warning when the run's scale rests on an assumed one.
+void ReportWallDistance(const WallDistanceStatement& statement, const std::string& method,
+                        RunReport* report) {
+  report->Extra("wall_distance") = WallDistanceJson(statement);
+  const std::string warning = WallDistanceWarning(statement, method);
+  if (!warning.empty()) report->Warn(warning);
+}
+
 // metrics.json, when the dataset has ground truth.
 void WriteMetricsIfGroundTruth(const DatasetManifest& manifest, const Trajectory& trajectory,
                                RunDirectory* run) {
@@ -108,6 +116,7 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   report.AddTiming("mosaic_cpu", result.mosaic_cpu_seconds);
   report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
+  ReportWallDistance(result.wall_distance, "sparse", &report);
   report.Extra("initial_position") = {
       {"start_c_xy_m", {result.summary.initial_c_xy.x(), result.summary.initial_c_xy.y()}},
       {"optimised_c_xy_m", {result.summary.optimised_c_xy.x(), result.summary.optimised_c_xy.y()}},
@@ -361,6 +370,7 @@ int RunOdometry(const OdometryFlags& flags) {
   report.AddTiming("odometry_loop_cpu", result.loop_cpu_seconds);
   report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
+  ReportWallDistance(result.wall_distance, DenseMethodName(options.method), &report);
   report.Extra("integer_only_frames") = integer_only;
   if (!integer_only.empty()) {
     report.Warn(std::to_string(integer_only.size()) +

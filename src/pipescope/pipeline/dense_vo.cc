@@ -73,8 +73,9 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   const bool on_unrolled_wall = options.method == DenseMethod::kUnrolled;
   const double radius =
       on_unrolled_wall ? RequireInnerRadius(manifest) : manifest.inner_radius_m.value_or(0.0);
+  double wall_distance = 0.0;
   try {
-    StartWallDistance(camera, zeta, radius);
+    wall_distance = StartWallDistance(camera, zeta, radius);
   } catch (const InputError& error) {
     throw InputError(ManifestName(manifest) + ": " + error.what());
   }
@@ -82,6 +83,11 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
       manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
   DenseOdometer odometer(camera, gain_mask, zeta, radius, options);
   DenseVoResult result;
+  // Without the radius StartWallDistance gives 0; the planar methods' scale is f / zeta.
+  result.wall_distance =
+      MakeWallDistanceStatement(camera, options.mount, radius,
+                                radius > 0.0 ? wall_distance : CentralFocalLengthPx(camera) / zeta,
+                                "reference_scale_px_per_m", false);
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
   ImageSourceOptions source_options{camera.Width(), camera.Height()};
   source_options.native_depth = true;  // the preparation converts in its first pass

@@ -8,6 +8,7 @@
 #include "pipescope/estimation/dense_odometer.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/pipeline/wall_distance_statement.h"
 
 namespace pipescope {
 
@@ -30,6 +31,9 @@ struct DenseVoResult {
   // CPU seconds of the frame loop's own thread (frames are decoded on another): the cost of
   // preparing and registering on one core, unaffected by a busy machine's waits.
   double loop_cpu_seconds = 0.0;
+  // The wall distance the method holds fixed (the reference scale's), and whether the view could
+  // measure it.
+  WallDistanceStatement wall_distance;
 };
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is

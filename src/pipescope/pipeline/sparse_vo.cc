@@ -89,6 +89,12 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   }
 
   SparseVoResult result;
+  result.wall_distance = MakeWallDistanceStatement(
+      camera, options.mount, radius, wall_distance,
+      options.wall_distance_m > 0.0 ? "wall_distance_m"
+      : has_reference_scale         ? "reference_scale_px_per_m"
+                                    : "none given: the camera taken to be on the pipe's axis",
+      true);
   const SparseFeatures features(camera, options.features);
   SparseOdometer odometer(camera, radius, start, effective.odometer, features, &result.stage_times);
   std::vector<SparseLocalisedFrame> localised;

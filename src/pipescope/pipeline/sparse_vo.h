@@ -11,6 +11,7 @@
 #include "pipescope/geometry/camera_mount.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/pipeline/wall_distance_statement.h"
 
 namespace pipescope {
 
@@ -75,6 +76,9 @@ struct SparseVoResult {
   // The unrolled mosaic's pass after the odometry: wall seconds, CPU seconds of the process.
   double mosaic_seconds = 0.0;
   double mosaic_cpu_seconds = 0.0;
+  // Whether the view lets the window adjustment measure the wall distance, or the scale holds
+  // the start's.
+  WallDistanceStatement wall_distance;
 };
 
 // Runs sparse VO over the dataset's frames; needs pipe.inner_radius_m. The dataset's gain mask

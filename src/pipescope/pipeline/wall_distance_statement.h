@@ -1,0 +1,37 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/estimation/wall_distance_observability.h"
+#include "pipescope/geometry/camera_mount.h"
+
+namespace pipescope {
+
+// What a wall-camera run knows of the camera's distance to the wall, which sets its scale
+// (issue 22): whether the method measures it along the run or holds the start's, whether this
+// view could measure it at all, and what an error in it costs. For run.json and the summary.
+struct WallDistanceStatement {
+  double start_m = 0.0;          // the start's distance to the wall the run used
+  std::string start_from;        // where that came from
+  bool method_measures = false;  // the method estimates it frame by frame (sparse)
+  // Unset without the pipe's radius (planar dense methods can run without it).
+  std::optional<WallDistanceObservability> observability;
+};
+
+// `start_from` names the source; `radius_m` 0: no observability.
+WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const CameraMount& mount,
+                                                double radius_m, double start_m,
+                                                std::string start_from, bool method_measures);
+
+// Whether the run's scale rests on the measurement (the method measures and the view sees it).
+bool WallDistanceMeasured(const WallDistanceStatement& statement);
+
+nlohmann::json WallDistanceJson(const WallDistanceStatement& statement);
+
+// One line for the run's warnings when the wall distance is assumed, empty when it is measured.
+std::string WallDistanceWarning(const WallDistanceStatement& statement, const std::string& method);
+
+}  // namespace pipescope
