@@ -1,6 +1,7 @@
 #include "pipescope/feature/sparse_features.h"
 
 #include <algorithm>
+#include <opencv2/imgproc.hpp>
 
 #include "pipescope/image/undistortion.h"
 
@@ -20,10 +21,14 @@ SparseFeatures::SparseFeatures(const Camera& camera, const SparseFeatureOptions&
 FrameFeatures SparseFeatures::Extract(const cv::Mat& corrected, StageTimes* times) const {
   FrameFeatures features;
   const StageClock<> harris;
-  features.keypoints = DetectRegionHarris(corrected, options_.harris);
+  cv::Mat image = corrected;
+  if (options_.blur_sigma_px > 0.0) {
+    cv::GaussianBlur(corrected, image, cv::Size(), options_.blur_sigma_px);
+  }
+  features.keypoints = DetectRegionHarris(image, options_.harris);
   harris.AddTo(times, "features_harris");
   const StageClock<> sift;
-  features.descriptors = DescribeWithSift(corrected, features.keypoints, options_.sift);
+  features.descriptors = DescribeWithSift(image, features.keypoints, options_.sift);
   sift.AddTo(times, "features_sift");
   features.bearings.resize(features.keypoints.size());
   features.has_bearing.resize(features.keypoints.size());

@@ -25,6 +25,8 @@ struct SparseFeatureOptions {
   DescriptorMatchingOptions matching;
   FivePointRansacOptions ransac;  // focal_length_px is taken from the camera
   KeyFrameOptions key_frames;
+  // Sigma (px) of a Gaussian blur of the frame before detection and description; 0: none.
+  double blur_sigma_px = 0.0;
 };
 
 // Keypoints of one frame (000 §5.1): positions in the distorted image, SIFT descriptors, bearings.

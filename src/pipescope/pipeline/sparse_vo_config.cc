@@ -25,6 +25,9 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           [](O& o) -> double& { return o.features.harris.sigma_derivative_px; }, 0.3, 20.0, "px",
           "region Harris: derivative scale"),
       Number<O>(
+          "feature_blur_sigma_px", [](O& o) -> double& { return o.features.blur_sigma_px; }, 0.0,
+          20.0, "px", "Gaussian blur of the frame before detection and description, 0 = none"),
+      Number<O>(
           "harris_k", [](O& o) -> double& { return o.features.harris.k; }, 0.0, 0.25, "",
           "region Harris: k of det - k trace^2"),
       Number<O>(
