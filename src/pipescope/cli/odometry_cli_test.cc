@@ -78,6 +78,36 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
   }
 }
 
+// Without --method the set-up picks it (docs/conditions.md): the 16-inch pipe's 25-degree view
+// cannot measure its wall distance, so a dense method; the 6-inch pipe's 70-degree view can, so
+// sparse. run.json says which and why.
+TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
+  const CommandResult narrow =
+      RunPipescope("odometry " + Path("ds") + " --out " + Path("run-auto-narrow") + " --config " +
+                   Path("config.yaml") + " -q");
+  ASSERT_EQ(narrow.exit_status, 0) << narrow.output;
+  const nlohmann::json narrow_report =
+      nlohmann::json::parse(ReadTextFile(Path("run-auto-narrow") + "/run.json"));
+  EXPECT_EQ(narrow_report["method"], "dense-unrolled");
+  EXPECT_EQ(narrow_report["method_choice"]["method"], "dense-unrolled");
+  EXPECT_NE(narrow_report["method_choice"]["reason"].get<std::string>().find("cannot measure"),
+            std::string::npos);
+
+  const CommandResult simulate =
+      RunPipescope("simulate --preset steel-6in --out " + Path("ds6") +
+                   " --frames 24 --set speed_m_s=0.03 --set width=512 --set height=384"
+                   " --set white_card_count=2 -q");
+  ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+  const CommandResult wide = RunPipescope("odometry " + Path("ds6") + " --out " +
+                                          Path("run-auto-wide") + " --no-report -q");
+  ASSERT_EQ(wide.exit_status, 0) << wide.output;
+  const nlohmann::json wide_report =
+      nlohmann::json::parse(ReadTextFile(Path("run-auto-wide") + "/run.json"));
+  EXPECT_EQ(wide_report["method"], "sparse");
+  EXPECT_EQ(wide_report["method_choice"]["method"], "sparse");
+  EXPECT_EQ(wide_report["wall_distance"]["measured"], true);
+}
+
 TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {
   struct Case {
     std::string arguments;

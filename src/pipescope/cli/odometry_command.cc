@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "pipescope/camera/camera_io.h"
+#include "pipescope/cli/method_choice.h"
 #include "pipescope/cli/run_flags.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/io/dataset.h"
@@ -31,7 +32,14 @@ namespace {
 
 struct OdometryFlags : RunFlags {
   std::string method;
+  std::string method_reason;  // set when --method was not given and the method was chosen
 };
+
+// run.json's method_choice when the method was chosen for the user.
+void NoteMethodChoice(const OdometryFlags& flags, RunReport* report) {
+  if (flags.method_reason.empty()) return;
+  report->Extra("method_choice") = {{"method", flags.method}, {"reason", flags.method_reason}};
+}
 
 // The frames a method could not use, with the reason (dense and sparse frame records).
 template <typename FrameRecord>
@@ -96,6 +104,7 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   const SparseVoResult result = RunSparseVo(manifest, camera, options);
 
   RunReport& report = run.report();
+  NoteMethodChoice(flags, &report);
   report.SetOptions(SparseVoOptionTable().ToJson(options));
   report.SetCount("frames",
                   static_cast<long long>(result.frames.size() + result.skipped_frames.size()));
@@ -242,6 +251,7 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   const EkfVoResult result = RunEkfVo(manifest, camera, options);
 
   RunReport& report = run.report();
+  NoteMethodChoice(flags, &report);
   report.SetOptions(EkfVoOptionTable().ToJson(options));
   report.SetCount("frames",
                   static_cast<long long>(result.frames.size() + result.skipped_frames.size()));
@@ -323,7 +333,15 @@ int RunOdometry(const OdometryFlags& flags) {
     ListKeys();
     return kExitSuccess;
   }
-  if (flags.method.empty()) throw InputError("flag --method is required");
+  if (flags.method.empty()) {
+    const DatasetManifest manifest = OpenRunDataset(flags);
+    const MethodChoice choice = ChooseOdometryMethod(manifest, ReadCamera(manifest.camera_path));
+    spdlog::info("--method not given: {}, because {}", choice.method, choice.reason);
+    OdometryFlags chosen = flags;
+    chosen.method = choice.method;
+    chosen.method_reason = choice.reason;
+    return RunOdometry(chosen);
+  }
   if (flags.method == "sparse") return RunSparseOdometry(flags);
   if (flags.method == "ekf") return RunEkfOdometry(flags);
   const std::vector<std::string> dense = DenseMethodNames();
@@ -345,6 +363,7 @@ int RunOdometry(const OdometryFlags& flags) {
   const DenseVoResult result = RunDenseVo(manifest, camera, options);
 
   RunReport& report = run.report();
+  NoteMethodChoice(flags, &report);
   nlohmann::json options_json = DenseVoOptionTable().ToJson(options);
   options_json["method"] = DenseMethodName(options.method);
   report.SetOptions(options_json);
@@ -416,7 +435,9 @@ SubcommandRunner SetupOdometryCommand(CLI::App* command) {
   for (const std::string& name : DenseMethodNames())
     methods += (methods.empty() ? "" : " | ") + name;
   methods += " | sparse | ekf";
-  command->add_option("--method", flags->method, "Odometry method: " + methods);
+  command->add_option("--method", flags->method,
+                      "Odometry method: " + methods +
+                          " (default: chosen for the camera and pipe, docs/conditions.md)");
   return [flags] { return RunOdometry(*flags); };
 }
 
