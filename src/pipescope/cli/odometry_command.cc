@@ -118,6 +118,13 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   report.SetCount("refinements", result.summary.refinements);
   report.SetCount("window_adjustments", result.summary.window_adjustments);
   report.SetCount("revisits", result.summary.revisits);
+  report.SetCount("restarts", result.summary.restarts);
+  if (result.summary.restarts > 0) {
+    report.Warn(std::to_string(result.summary.restarts) +
+                " time(s) the tracks were lost and the chain restarted at a pose predicted at "
+                "the last measured speed: the distance across each gap is a prediction, not a "
+                "measurement (restart_after_failed_frames)");
+  }
   report.AddTiming("odometry", result.odometry_seconds);
   report.AddTiming("odometry_cpu", result.odometry_cpu_seconds);
   report.AddStageTimes("odometry", result.stage_times);
@@ -153,7 +160,9 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   }
   std::vector<FrameState> states;
   for (const SparseFrameRecord& frame : result.frames) {
-    states.push_back(frame.failure.empty() ? FrameState::kMeasured : FrameState::kNotLocalised);
+    states.push_back(!frame.failure.empty() ? FrameState::kNotLocalised
+                     : frame.predicted      ? FrameState::kPredicted
+                                            : FrameState::kMeasured);
   }
   states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
   run.SetQuality(states);

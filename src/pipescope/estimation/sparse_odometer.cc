@@ -44,10 +44,21 @@ SparseOdometer::SparseOdometer(const Camera& camera, double radius_m,
 }
 
 void SparseOdometer::StartAt(std::size_t frame_index, double timestamp, FrameFeatures features) {
+  RestartAt(frame_index, timestamp, std::move(features), start_);
+  key_frames_.back().held = false;
+}
+
+void SparseOdometer::RestartAt(std::size_t frame_index, double timestamp, FrameFeatures features,
+                               const Eigen::Isometry3d& predicted) {
+  if (!key_frames_.empty()) {
+    key_frames_.back().features.descriptors.release();
+    ++summary_.restarts;
+  }
   KeyFrame key;
   key.frame_index = frame_index;
   key.timestamp = timestamp;
-  key.pose = start_;
+  key.pose = predicted;
+  key.held = true;
   key.features = std::move(features);
   key.tracks.resize(key.features.keypoints.size());
   for (long long& track : key.tracks) track = NewTrack();
@@ -55,6 +66,10 @@ void SparseOdometer::StartAt(std::size_t frame_index, double timestamp, FrameFea
   AddContributions(&key);
   summary_.key_frame_records.push_back({frame_index, static_cast<int>(key.tracks.size()), 0});
   key_frames_.push_back(std::move(key));
+}
+
+Eigen::Isometry3d SparseOdometer::PoseOf(const SparseLocalisedFrame& frame) const {
+  return MovedAlongAxis(key_frames_[frame.anchor].pose, frame.delta_h);
 }
 
 // 000 §5.3.1: delta_h of `frame` from the current key frame through the tracks it continues.
@@ -114,7 +129,7 @@ void SparseOdometer::Promote(std::size_t frame_index, double timestamp, FrameFea
   if (options_.revisit) FindRevisit();
   // A measured start replaces §5.3.2's estimate of C_X, C_Y (SparseOdometerOptions).
   if (options_.optimise_initial_position && !options_.window.hold_first_cross_section &&
-      count == static_cast<std::size_t>(options_.initial_key_frames)) {
+      summary_.restarts == 0 && count == static_cast<std::size_t>(options_.initial_key_frames)) {
     OptimiseStart();
   }
   if (options_.window_adjustment) {
@@ -174,6 +189,7 @@ void SparseOdometer::RefineWindow() {
   for (int pass = 0; pass < options_.refine_passes; ++pass) {
     for (std::size_t k = begin; k < count; ++k) {
       KeyFrame& key = key_frames_[k];
+      if (key.held) continue;
       RemoveContributions(&key);
       std::vector<SurfaceObservation> observations;
       for (std::size_t i = 0; i < key.tracks.size(); ++i) {
@@ -211,11 +227,15 @@ void SparseOdometer::AdjustKeyFrames(std::size_t begin, int fixed) {
   const std::size_t end = key_frames_.size();
   std::vector<WindowKeyFrame> window = RevisitedKeyFrames(begin);
   const std::size_t revisited = window.size();
+  // A window that holds a restart's key frame holds the start too: the gauge prior on the first
+  // key frame applies only when none is held.
+  bool holds_restart = false;
+  for (std::size_t k = begin; k < end; ++k) holds_restart = holds_restart || key_frames_[k].held;
   for (std::size_t k = begin; k < end; ++k) {
     const KeyFrame& key = key_frames_[k];
     WindowKeyFrame entry;
     entry.pose = key.pose;
-    entry.fixed = static_cast<int>(k - begin) < fixed;
+    entry.fixed = static_cast<int>(k - begin) < fixed || key.held || (holds_restart && k == 0);
     entry.keypoints = TrackedKeypoints(key);
     window.push_back(std::move(entry));
   }

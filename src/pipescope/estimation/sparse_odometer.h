@@ -78,6 +78,7 @@ struct SparseOdometerSummary {
   int refinements = 0;
   int window_adjustments = 0;
   int revisits = 0;  // key frames matched to an older key frame of the same place (revisit)
+  int restarts = 0;  // RestartAt after lost tracks
   GlobalScaleResult global_scale;
 };
 
@@ -127,6 +128,13 @@ class SparseOdometer {
   // wall points enter S(g). Runs 000's batch steps when their key frame count is reached.
   void Promote(std::size_t frame_index, double timestamp, FrameFeatures features,
                const PairMatches& matches, double delta_h);
+  // After the tracks were lost (a stretch of wall with too little texture): a new key frame at
+  // `predicted`, with new tracks only, from which the chain continues. It is held in every
+  // window adjustment and refinement, as the start is.
+  void RestartAt(std::size_t frame_index, double timestamp, FrameFeatures features,
+                 const Eigen::Isometry3d& predicted);
+  // The pose of a localised frame, from its anchor key frame's current pose.
+  Eigen::Isometry3d PoseOf(const SparseLocalisedFrame& frame) const;
   // The last adjustments, then every frame's step again against the final poses and statistics.
   SparseOdometerOutput Finish(std::vector<SparseLocalisedFrame>* frames);
 
@@ -138,6 +146,9 @@ class SparseOdometer {
     double timestamp = 0.0;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     FrameFeatures features;
+    // A restart's key frame (RestartAt): its pose was predicted, and window adjustments hold it
+    // as they hold the start, since no track ties it to the key frames before it.
+    bool held = false;
     std::vector<long long> tracks;  // global index g of every keypoint
     // The SIFT descriptors as bytes (OpenCV's SIFT values are whole numbers up to 255), kept
     // for matching when the place is seen again (SparseOdometerOptions::revisit).

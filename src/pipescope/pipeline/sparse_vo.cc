@@ -52,6 +52,25 @@ void CheckOptions(const SparseVoOptions& options) {
   require(options.mosaic_pixel_m >= 0.0, "mosaic_pixel_m: must not be negative");
 }
 
+// Where a restart's frame at `timestamp` is, moving on along the axis at the speed of the
+// localised frames of the last second before the loss.
+Eigen::Isometry3d PredictedPose(const SparseOdometer& odometer,
+                                const std::vector<SparseLocalisedFrame>& localised,
+                                double timestamp) {
+  const SparseLocalisedFrame& last = localised.back();
+  std::size_t earlier = localised.size() - 1;
+  while (earlier > 0 && last.timestamp - localised[earlier - 1].timestamp <= 1.0) --earlier;
+  const Eigen::Isometry3d last_pose = odometer.PoseOf(last);
+  double speed = 0.0;
+  if (last.timestamp > localised[earlier].timestamp) {
+    speed = (last_pose.translation().z() - odometer.PoseOf(localised[earlier]).translation().z()) /
+            (last.timestamp - localised[earlier].timestamp);
+  }
+  Eigen::Isometry3d predicted = last_pose;
+  predicted.translation().z() += speed * (timestamp - last.timestamp);
+  return predicted;
+}
+
 }  // namespace
 
 SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera,
@@ -108,6 +127,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     std::size_t localised;
   };
   std::optional<Candidate> candidate;
+  int failed_in_a_row = 0;
 
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
   ProgressBar progress("sparse", source->FrameCount());
@@ -186,11 +206,27 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     record.matches = matches.matched;
     record.inliers = static_cast<int>(matches.inliers.size());
     if (record.inliers < options.min_correspondences) {
+      ++failed_in_a_row;
+      if (options.restart_after_failed_frames > 0 &&
+          failed_in_a_row >= options.restart_after_failed_frames && !localised.empty() &&
+          record.keypoints >= options.min_correspondences) {
+        odometer.RestartAt(frame->index, frame->timestamp, std::move(frame_features),
+                           PredictedPose(odometer, localised, frame->timestamp));
+        candidate.reset();
+        failed_in_a_row = 0;
+        record.key_frame = true;
+        record.predicted = true;
+        localised.push_back(
+            {result.frames.size(), frame->timestamp, odometer.CurrentIndex(), 0.0, {}});
+        result.frames.push_back(std::move(record));
+        continue;
+      }
       record.failure =
           "only " + std::to_string(record.inliers) + " inlier correspondences to the key frame";
       result.frames.push_back(std::move(record));
       continue;
     }
+    failed_in_a_row = 0;
     SparseLocalisedFrame frame_pose;
     frame_pose.record = result.frames.size();
     frame_pose.timestamp = frame->timestamp;

@@ -27,6 +27,11 @@ struct SparseVoOptions {
   bool hold_measured_start = true;
   // Fewest inlier correspondences a frame needs to be localised at all.
   int min_correspondences = 12;
+  // After this many frames in a row fail against the key frame (a stretch of wall too plain to
+  // match), the next frame with enough keypoints restarts the chain at a pose predicted at the
+  // last measured speed (SparseOdometer::RestartAt); the failed frames have no pose and the
+  // restart's frame counts as predicted. 0: never (the run stays lost).
+  int restart_after_failed_frames = 5;
   CameraMount mount;
   // Distance from the start camera to the wall it faces (metres): 000's "measured manually"
   // offset. 0 = from the reference scale (f / zeta) when the dataset has one, else the radius
@@ -52,7 +57,8 @@ struct SparseFrameRecord {
   int matches = 0;  // ratio test + mutual check, to the key frame
   int inliers = 0;  // after five-point RANSAC
   bool key_frame = false;
-  std::string failure;  // why the frame has no pose; empty when localised
+  bool predicted = false;  // a restart's frame: its pose continues the last measured speed
+  std::string failure;     // why the frame has no pose; empty when localised
 };
 
 struct SparseVoResult {

@@ -127,6 +127,10 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
       Number<O>(
           "min_correspondences", [](O& o) -> int& { return o.min_correspondences; }, 6, 100000, "",
           "fewest inlier correspondences to localise a frame"),
+      Number<O>(
+          "restart_after_failed_frames", [](O& o) -> int& { return o.restart_after_failed_frames; },
+          0, 100000, "",
+          "failed frames in a row before the chain restarts at a predicted pose, 0 = never"),
       Choice<O>(
           "axis_along_pipe", [](O& o) -> std::string& { return o.mount.axis_along_pipe; },
           {"x", "-x", "y", "-y"}, "the camera axis that points down the pipe"),
