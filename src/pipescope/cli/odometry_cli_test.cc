@@ -95,7 +95,7 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
 
   const CommandResult simulate =
       RunPipescope("simulate --preset steel-6in --out " + Path("ds6") +
-                   " --frames 24 --set speed_m_s=0.03 --set width=512 --set height=384"
+                   " --frames 40 --set speed_m_s=0.03 --set width=512 --set height=384"
                    " --set white_card_count=2 -q");
   ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
   const CommandResult wide = RunPipescope("odometry " + Path("ds6") + " --out " +
@@ -106,6 +106,20 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   EXPECT_EQ(wide_report["method"], "sparse");
   EXPECT_EQ(wide_report["method_choice"]["method"], "sparse");
   EXPECT_EQ(wide_report["wall_distance"]["measured"], true);
+  EXPECT_EQ(wide_report["quality"]["verdict"], "reliable");
+  EXPECT_LT(wide_report["cross_section_excursion_m"].get<double>(), 0.25 * 0.07666);
+
+  // A run whose camera strays farther across the pipe than the limit is called unreliable.
+  WriteTextFileAtomically(*dir_ / "tight.yaml", "max_cross_section_excursion: 0.0001\n");
+  const CommandResult tight =
+      RunPipescope("odometry " + Path("ds6") + " --method sparse --out " + Path("run-tight") +
+                   " --config " + Path("tight.yaml") + " --no-report -q");
+  ASSERT_EQ(tight.exit_status, 0) << tight.output;
+  const nlohmann::json tight_report =
+      nlohmann::json::parse(ReadTextFile(Path("run-tight") + "/run.json"));
+  EXPECT_EQ(tight_report["quality"]["verdict"], "unreliable");
+  EXPECT_NE(tight_report["quality"]["reasons"].dump().find("strays"), std::string::npos)
+      << tight_report["quality"].dump();
 }
 
 TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {

@@ -1,5 +1,6 @@
 // `pipescope odometry`: visual odometry over a dataset, writing a run directory (GUIDE §4):
 // trajectory.tum, mosaic.png, run.json and, with ground truth, metrics.json.
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -165,7 +166,19 @@ int RunSparseOdometry(const OdometryFlags& flags) {
                                             : FrameState::kMeasured);
   }
   states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
-  run.SetQuality(states);
+  std::vector<std::string> model_reasons;
+  const double radius = *manifest.inner_radius_m;
+  report.Extra("cross_section_excursion_m") = result.cross_section_excursion_m;
+  if (options.max_cross_section_excursion > 0.0 &&
+      result.cross_section_excursion_m > options.max_cross_section_excursion * radius) {
+    model_reasons.push_back(fmt::format(
+        "the estimated camera strays {:.1f} mm across the pipe from its start (limit {:.0f} % of "
+        "the radius, {:.1f} mm): the images did not hold its distance to the wall, so the scale "
+        "is not to be trusted",
+        1000.0 * result.cross_section_excursion_m, 100.0 * options.max_cross_section_excursion,
+        1000.0 * options.max_cross_section_excursion * radius));
+  }
+  run.SetQuality(states, model_reasons);
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.key_frames);
   run.WriteSparsePoints(result.points);

@@ -32,6 +32,11 @@ struct SparseVoOptions {
   // last measured speed (SparseOdometer::RestartAt); the failed frames have no pose and the
   // restart's frame counts as predicted. 0: never (the run stays lost).
   int restart_after_failed_frames = 5;
+  // A run whose key frames move farther than this share of the radius across the pipe from the
+  // first is called unreliable: the images did not hold the camera's distance to the wall (a
+  // crawler is centred by its wheels; measured wander stays within 5 %), so the scale is not to
+  // be trusted. 0: no check.
+  double max_cross_section_excursion = 0.25;
   CameraMount mount;
   // Distance from the start camera to the wall it faces (metres): 000's "measured manually"
   // offset. 0 = from the reference scale (f / zeta) when the dataset has one, else the radius
@@ -85,6 +90,8 @@ struct SparseVoResult {
   // Whether the view lets the window adjustment measure the wall distance, or the scale holds
   // the start's.
   WallDistanceStatement wall_distance;
+  // The farthest any key frame's estimated place in the cross-section is from the first's, m.
+  double cross_section_excursion_m = 0.0;
 };
 
 // Runs sparse VO over the dataset's frames; needs pipe.inner_radius_m. The dataset's gain mask

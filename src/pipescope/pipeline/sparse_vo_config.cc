@@ -131,6 +131,11 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           "restart_after_failed_frames", [](O& o) -> int& { return o.restart_after_failed_frames; },
           0, 100000, "",
           "failed frames in a row before the chain restarts at a predicted pose, 0 = never"),
+      Number<O>(
+          "max_cross_section_excursion",
+          [](O& o) -> double& { return o.max_cross_section_excursion; }, 0.0, 1.0, "",
+          "share of the radius the key frames may stray across the pipe before the run is "
+          "called unreliable, 0 = no check"),
       Choice<O>(
           "axis_along_pipe", [](O& o) -> std::string& { return o.mount.axis_along_pipe; },
           {"x", "-x", "y", "-y"}, "the camera axis that points down the pipe"),
