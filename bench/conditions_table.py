@@ -2,7 +2,9 @@
 """Summarises bench/conditions.sh: per set-up and method, the median and worst distance error and
 worst leg error over the tuning seed and, apart, over the held-out seeds; and how many runs ended
 more than 2 % off without their run.json calling them unreliable (silent failures).
-Usage: conditions_table.py OUT_DIR [TAG]   (writes OUT_DIR/conditions-TAG.csv)"""
+Usage: conditions_table.py OUT_DIR [TAG] [--markdown]   (writes OUT_DIR/conditions-TAG.csv)
+--markdown prints, per set-up, every run's distance error and worst leg (%), "U" marking a run
+its run.json called unreliable: the tables of docs/conditions.md."""
 import csv
 import glob
 import json
@@ -57,12 +59,39 @@ def summary(rows):
             f"{len(silent):>3}/{len(rows):<3} {worst['condition']}-{worst['seed']}")
 
 
+def markdown(rows):
+    for setup in sorted({r["setup"] for r in rows}):
+        mine = [r for r in rows if r["setup"] == setup]
+        columns = sorted({(r["seed"], r["condition"]) for r in mine})
+        print(f"\n{setup}: distance / worst leg, % (U: run.json says unreliable)\n")
+        print("| method | " + " | ".join(f"{c} s{s}" for s, c in columns) + " |")
+        print("|---|" + "---|" * len(columns))
+        for method in sorted({r["method"] for r in mine}):
+            cells = []
+            for seed, condition in columns:
+                run = [r for r in mine if r["method"] == method and r["seed"] == seed and
+                       r["condition"] == condition]
+                if not run:
+                    cells.append("–")
+                    continue
+                r = run[0]
+                leg = worst_leg(r)
+                text = f"{abs(r['distance_pct']):.3f}"
+                if leg == leg:  # not NaN
+                    text += f" / {leg:.2f}"
+                cells.append(text + (" U" if r["verdict"] != "reliable" else ""))
+            print(f"| {method} | " + " | ".join(cells) + " |")
+
+
 def main():
     out = sys.argv[1]
-    tag = sys.argv[2] if len(sys.argv) > 2 else "default"
+    tag = sys.argv[2] if len(sys.argv) > 2 and not sys.argv[2].startswith("--") else "default"
     rows = load_runs(out, tag)
     if not rows:
         sys.exit(f"no runs under {out}/runs/{tag}")
+    if "--markdown" in sys.argv:
+        markdown(rows)
+        return
     with open(f"{out}/conditions-{tag}.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         writer.writeheader()
