@@ -12,6 +12,8 @@ namespace pipescope {
 struct MethodChoice {
   std::string method;
   std::string reason;
+  // Run when `method` fails or ends unreliable (sparse on texture too weak to track); empty: none.
+  std::string fallback;
 };
 
 // Wide-angle cameras (a half angle beyond 80 degrees: fisheyes looking down the pipe) get the

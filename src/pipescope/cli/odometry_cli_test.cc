@@ -3,6 +3,7 @@
 // bad input exits 2 naming the culprit and leaves no run directory behind.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -120,6 +121,36 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   EXPECT_EQ(tight_report["quality"]["verdict"], "unreliable");
   EXPECT_NE(tight_report["quality"]["reasons"].dump().find("strays"), std::string::npos)
       << tight_report["quality"].dump();
+}
+
+// When the chosen sparse run ends unreliable (here most frames are plain noise, so its tracks
+// are lost), odometry without --method runs dense-unrolled instead and says why.
+TEST_F(OdometryCli, WithoutMethodFallsBackWhenSparseIsUnreliable) {
+  const std::string data = Path("ds6-plain");
+  const CommandResult simulate =
+      RunPipescope("simulate --preset steel-6in --out " + data +
+                   " --frames 40 --set speed_m_s=0.03 --set width=512 --set height=384"
+                   " --set white_card_count=2 -q");
+  ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+  cv::RNG rng(5);
+  for (int index = 8; index < 40; ++index) {
+    cv::Mat plain(384, 512, CV_8U);
+    rng.fill(plain, cv::RNG::NORMAL, 120.0, 3.0);
+    char name[32];
+    std::snprintf(name, sizeof(name), "/images/%06d.png", index);
+    ASSERT_TRUE(cv::imwrite(data + name, plain));
+  }
+  const CommandResult result =
+      RunPipescope("odometry " + data + " --out " + Path("run-fallback") + " --no-report");
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_NE(result.output.find("running dense-unrolled instead"), std::string::npos)
+      << result.output;
+  const nlohmann::json report =
+      nlohmann::json::parse(ReadTextFile(Path("run-fallback") + "/run.json"));
+  EXPECT_EQ(report["method"], "dense-unrolled");
+  EXPECT_NE(report["method_choice"]["reason"].get<std::string>().find("sparse was tried first"),
+            std::string::npos)
+      << report["method_choice"].dump();
 }
 
 TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {

@@ -26,6 +26,7 @@
 #include "pipescope/pipeline/sparse_vo.h"
 #include "pipescope/pipeline/sparse_vo_config.h"
 #include "pipescope/report/run_directory.h"
+#include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
@@ -362,7 +363,28 @@ int RunOdometry(const OdometryFlags& flags) {
     OdometryFlags chosen = flags;
     chosen.method = choice.method;
     chosen.method_reason = choice.reason;
-    return RunOdometry(chosen);
+    // A --config names one method's keys, so only a run without one can fall back.
+    if (choice.fallback.empty() || !flags.config.empty()) return RunOdometry(chosen);
+    std::string why;
+    try {
+      const int status = RunOdometry(chosen);
+      if (status != kExitSuccess) return status;
+      const nlohmann::json report =
+          nlohmann::json::parse(ReadTextFile(std::filesystem::path(flags.out) / "run.json"));
+      if (report["quality"]["verdict"] == "reliable") return status;
+      for (const auto& reason : report["quality"]["reasons"]) {
+        why += (why.empty() ? "" : "; ") + reason.get<std::string>();
+      }
+    } catch (const RunFailedError& error) {
+      why = error.what();
+    }
+    spdlog::warn("{} was unreliable ({}): running {} instead", choice.method, why, choice.fallback);
+    OdometryFlags fallback = flags;
+    fallback.method = choice.fallback;
+    fallback.method_reason = choice.reason + "; " + choice.method +
+                             " was tried first and was unreliable (" + why + "), so " +
+                             choice.fallback + " instead";
+    return RunOdometry(fallback);
   }
   if (flags.method == "sparse") return RunSparseOdometry(flags);
   if (flags.method == "ekf") return RunEkfOdometry(flags);
