@@ -123,6 +123,30 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
       << tight_report["quality"].dump();
 }
 
+// Where the view cannot measure the wall distance (the 16-inch pipe's 25 degrees), a sparse run
+// whose camera strays across the pipe by more than the limit's share of that distance is called
+// unreliable, since its scale follows an excursion the images could not confirm.
+TEST_F(OdometryCli, SparseOnANarrowViewDoubtsAnUnconfirmedExcursion) {
+  const CommandResult simulate =
+      RunPipescope("simulate --preset steel-16in --out " + Path("ds16-long") +
+                   " --frames 90 --set width=320 --set height=240 --set speed_m_s=0.1"
+                   " --set white_card_count=2 --set out_and_back=false -q");
+  ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
+  WriteTextFileAtomically(*dir_ / "doubt.yaml",
+                          "max_unobserved_excursion: 0.000001\nmosaic: false\n"
+                          "sigma_window_px: 1.5\nsigma_derivative_px: 0.75\n");
+  const CommandResult result =
+      RunPipescope("odometry " + Path("ds16-long") + " --method sparse --out " + Path("run-doubt") +
+                   " --config " + Path("doubt.yaml") + " --no-report -q");
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const nlohmann::json report =
+      nlohmann::json::parse(ReadTextFile(Path("run-doubt") + "/run.json"));
+  EXPECT_EQ(report["wall_distance"]["measured"], false);
+  EXPECT_EQ(report["quality"]["verdict"], "unreliable");
+  EXPECT_NE(report["quality"]["reasons"].dump().find("could not confirm"), std::string::npos)
+      << report["quality"].dump();
+}
+
 // When the chosen sparse run ends unreliable (here most frames are plain noise, so its tracks
 // are lost), odometry without --method runs dense-unrolled instead and says why.
 TEST_F(OdometryCli, WithoutMethodFallsBackWhenSparseIsUnreliable) {

@@ -179,6 +179,16 @@ int RunSparseOdometry(const OdometryFlags& flags) {
         1000.0 * result.cross_section_excursion_m, 100.0 * options.max_cross_section_excursion,
         1000.0 * options.max_cross_section_excursion * radius));
   }
+  const double unobserved_share = result.cross_section_excursion_m / result.wall_distance.start_m;
+  if (!WallDistanceMeasured(result.wall_distance) && options.max_unobserved_excursion > 0.0 &&
+      unobserved_share > options.max_unobserved_excursion) {
+    model_reasons.push_back(fmt::format(
+        "this view cannot measure the camera's distance to the wall, and the estimated camera "
+        "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the scale "
+        "follows an excursion the images could not confirm",
+        1000.0 * result.cross_section_excursion_m, 100.0 * unobserved_share,
+        100.0 * options.max_unobserved_excursion));
+  }
   run.SetQuality(states, model_reasons);
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.key_frames);

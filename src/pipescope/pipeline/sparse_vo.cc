@@ -86,15 +86,22 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
                         ? CentralFocalLengthPx(camera) / *manifest.reference_scale_px_per_m
                         : radius;
   }
-  SparseVoOptions effective = options;
-  effective.odometer.window.hold_first_cross_section =
-      options.hold_measured_start && start_measured;
   if (wall_distance >= 2.0 * radius) {
     throw InputError(ManifestName(manifest) + ": the start camera would be " +
                      std::to_string(wall_distance) +
                      " m from the wall, beyond the pipe's diameter (wall_distance_m or "
                      "reference_scale_px_per_m)");
   }
+  SparseVoResult result;
+  result.wall_distance = MakeWallDistanceStatement(
+      camera, options.mount, radius, wall_distance,
+      options.wall_distance_m > 0.0 ? "wall_distance_m"
+      : has_reference_scale         ? "reference_scale_px_per_m"
+                                    : "none given: the camera taken to be on the pipe's axis",
+      true);
+  SparseVoOptions effective = options;
+  effective.odometer.window.hold_first_cross_section =
+      options.hold_measured_start && start_measured && !WallDistanceMeasured(result.wall_distance);
   const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
   // Without a measured start there is no place to anchor the cross-section to.
   if (!start_measured) effective.odometer.window.cross_section_anchor_sigma_m = 0.0;
@@ -107,13 +114,6 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
                      ": gain mask size differs from the camera's");
   }
 
-  SparseVoResult result;
-  result.wall_distance = MakeWallDistanceStatement(
-      camera, options.mount, radius, wall_distance,
-      options.wall_distance_m > 0.0 ? "wall_distance_m"
-      : has_reference_scale         ? "reference_scale_px_per_m"
-                                    : "none given: the camera taken to be on the pipe's axis",
-      true);
   const SparseFeatures features(camera, options.features);
   SparseOdometer odometer(camera, radius, start, effective.odometer, features, &result.stage_times);
   std::vector<SparseLocalisedFrame> localised;

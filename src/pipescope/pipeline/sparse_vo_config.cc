@@ -136,6 +136,11 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           [](O& o) -> double& { return o.max_cross_section_excursion; }, 0.0, 1.0, "",
           "share of the radius the key frames may stray across the pipe before the run is "
           "called unreliable, 0 = no check"),
+      Number<O>(
+          "max_unobserved_excursion", [](O& o) -> double& { return o.max_unobserved_excursion; },
+          0.0, 1.0, "",
+          "where the view cannot measure the wall distance: share of it the camera may stray "
+          "across the pipe before the run is called unreliable, 0 = no check"),
       Choice<O>(
           "axis_along_pipe", [](O& o) -> std::string& { return o.mount.axis_along_pipe; },
           {"x", "-x", "y", "-y"}, "the camera axis that points down the pipe"),
