@@ -4,6 +4,8 @@
 
 #include <utility>
 
+#include "pipescope/util/error.h"
+
 namespace pipescope {
 
 WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const CameraMount& mount,
@@ -14,8 +16,13 @@ WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const Came
   statement.start_from = std::move(start_from);
   statement.method_measures = method_measures;
   if (radius_m > 0.0) {
-    statement.observability = AssessWallDistanceObservability(
-        camera, MountedStartPose(mount, radius_m, start_m), radius_m);
+    try {
+      statement.observability = AssessWallDistanceObservability(
+          camera, MountedStartPose(mount, radius_m, start_m), radius_m);
+    } catch (const InputError&) {
+      // A set-up the assessment cannot judge (too little of the wall in view): unknown, said so
+      // in run.json (view_observes: null); the run itself goes on.
+    }
   }
   return statement;
 }
@@ -55,11 +62,17 @@ std::string WallDistanceWarning(const WallDistanceStatement& statement, const st
   const std::string held =
       fmt::format("the start's {:.1f} mm ({})", 1000.0 * statement.start_m, statement.start_from);
   const auto& o = statement.observability;
+  if (statement.method_measures && !o) {
+    return fmt::format(
+        "{}: whether this view can measure the camera's distance to the wall is unknown; the "
+        "scale holds {} on average: {}",
+        method, held, cost);
+  }
   if (statement.method_measures) {
     return fmt::format(
         "{}: this view sees too little of the wall's curvature to measure the camera's distance "
         "to the wall ({:.2f} % of scale per pair of views); the scale holds {} on average: {}",
-        method, o ? o->scale_sigma_pct : 0.0, held, cost);
+        method, o->scale_sigma_pct, held, cost);
   }
   std::string view = "without the pipe's radius, whether this view could measure it is unknown";
   if (o) {
