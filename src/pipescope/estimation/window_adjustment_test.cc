@@ -125,16 +125,23 @@ TEST(AdjustWindow, CrossSectionPriorPullsConsecutiveKeyFramesTogether) {
   EXPECT_LT(last_step_across(stiff), 0.00002);
 }
 
+// Six key frames 10 mm apart, all truly 1 mm nearer the wall than an anchor at the axis, seen
+// exactly, the first held.
+std::vector<Eigen::Isometry3d> OneMillimetreNearerTheWall() {
+  std::vector<Eigen::Isometry3d> truth;
+  for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001, 0.01 * a}));
+  return truth;
+}
+
 // The cross-section anchor: key frames truly 1 mm nearer the wall than the anchor, seen exactly.
 // A loose anchor keeps the truth; a stiff one puts every free key frame's C_X, C_Y on the anchor
 // (only the prior can: the reprojections alone are exact at the truth) and leaves the held one
 // alone.
 TEST(AdjustWindow, CrossSectionAnchorPullsFreeKeyFramesToTheMeasuredStart) {
   const Camera camera = SteelSixInchCamera();
-  std::vector<Eigen::Isometry3d> truth;
-  for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001, 0.01 * a}));
-  const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 110);
-  const std::vector<WindowKeyFrame> window = ExactWindowHoldingTheFirst(camera, truth, points);
+  const std::vector<Eigen::Isometry3d> truth = OneMillimetreNearerTheWall();
+  const std::vector<WindowKeyFrame> window =
+      ExactWindowHoldingTheFirst(camera, truth, PointsSeenFromEach(camera, truth, 110));
   WindowAdjustmentOptions options;
   options.max_iterations = 50;
   options.cross_section_anchor_xy = Eigen::Vector2d::Zero();
@@ -158,10 +165,9 @@ TEST(AdjustWindow, CrossSectionAnchorPullsFreeKeyFramesToTheMeasuredStart) {
 // which see the 1 mm through the 6-inch pipe's curvature, overrule it.
 TEST(AdjustWindow, RobustCrossSectionAnchorIsOverruledByTheImages) {
   const Camera camera = SteelSixInchCamera();
-  std::vector<Eigen::Isometry3d> truth;
-  for (int a = 0; a < 6; ++a) truth.push_back(WallLookingPose({0.0, 0.001, 0.01 * a}));
-  const std::vector<Eigen::Vector3d> points = PointsSeenFromEach(camera, truth, 110);
-  const std::vector<WindowKeyFrame> window = ExactWindowHoldingTheFirst(camera, truth, points);
+  const std::vector<Eigen::Isometry3d> truth = OneMillimetreNearerTheWall();
+  const std::vector<WindowKeyFrame> window =
+      ExactWindowHoldingTheFirst(camera, truth, PointsSeenFromEach(camera, truth, 110));
   WindowAdjustmentOptions options;
   options.max_iterations = 50;
   options.cross_section_anchor_xy = Eigen::Vector2d::Zero();
