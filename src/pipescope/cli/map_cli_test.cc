@@ -80,6 +80,30 @@ TEST_F(MapCli, WritesTheRunDirectory) {
   EXPECT_FALSE(strip.empty());
 }
 
+// A run whose window adjustments were all rejected (here by an image RMS limit no window can
+// meet) has a scale no window confirmed: unreliable, and it says why (the share allowed is
+// tested in pipeline_test, WindowConfirmation).
+TEST_F(MapCli, RejectedWindowsMakeTheRunUnreliable) {
+  const std::string run = Path("rejected");
+  WriteTextFileAtomically(*dir_ / "reject.yaml",
+                          "window_interval: 8\nmin_cluster_size: 3\nmax_window_rms_px: 0\n");
+  const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + run + " --config " +
+                                            Path("reject.yaml") + " -q");
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
+  ASSERT_FALSE(report["windows"].empty());
+  EXPECT_EQ(report["quality"]["verdict"], "unreliable");
+  const std::string windows = std::to_string(report["windows"].size());
+  bool said = false;
+  for (const nlohmann::json& reason : report["quality"]["reasons"]) {
+    said = said || reason.get<std::string>().find(windows + " of " + windows +
+                                                  " window adjustments were rejected (image "
+                                                  "rms: " +
+                                                  windows) != std::string::npos;
+  }
+  EXPECT_TRUE(said) << report["quality"].dump();
+}
+
 // The odometry overlapped with the tracking sees the same key frames and sections in the same
 // order as the odometry run after it: the same poses to the last digit (Ceres on one thread,
 // whose multi-threaded sums may round differently), and the same on a second overlapped run.

@@ -3,6 +3,7 @@
 // ground truth, metrics.json.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "pipescope/io/trajectory.h"
 #include "pipescope/pipeline/fisheye_mapping.h"
 #include "pipescope/pipeline/fisheye_mapping_config.h"
+#include "pipescope/pipeline/window_confirmation.h"
 #include "pipescope/report/run_directory.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/timer.h"
@@ -199,7 +201,19 @@ int RunMap(const RunFlags& flags) {
     }
   }
   states.insert(states.end(), result.unreadable_frames.size(), FrameState::kNotLocalised);
-  run.SetQuality(states);
+  // A scale the windows did not confirm is not trusted (on faint, noisy texture most windows
+  // are rejected and the single steps' bias stays).
+  int longest_straight_section = 0;
+  for (const FisheyeSection& section : result.sections) {
+    if (section.view_class != PipeViewClass::kStraight) continue;
+    longest_straight_section =
+        std::max(longest_straight_section, section.last_keyframe - section.first_keyframe + 1);
+  }
+  WindowConfirmationOptions confirmation;
+  confirmation.max_rejected_share = options.max_rejected_window_share;
+  confirmation.window_interval = options.odometry.window_interval;
+  run.SetQuality(states,
+                 WindowConfirmationReasons(result.windows, longest_straight_section, confirmation));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

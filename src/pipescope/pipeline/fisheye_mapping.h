@@ -26,6 +26,9 @@ struct FisheyeMappingOptions {
   KeyframeOdometryOptions odometry;  // odometry.window.radius_m comes from the dataset
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
+  // A run is unreliable when more than this share of its straight windows was rejected
+  // (pipeline/window_confirmation.h).
+  double max_rejected_window_share = 0.5;
   // The odometry runs on a second thread while the frames are tracked (false: it starts after
   // the last frame, as before; the same key frames in the same order, so the same poses).
   bool overlap_odometry = true;

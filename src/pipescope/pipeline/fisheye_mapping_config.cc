@@ -146,6 +146,9 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "max_window_cylinder_rms",
           [](O& o) -> double& { return o.odometry.max_window_cylinder_rms; }, 0.0, 10.0, "radii",
           "... and with its points on the wall to this RMS"),
+      Number<O>(
+          "max_rejected_window_share", [](O& o) -> double& { return o.max_rejected_window_share; },
+          0.0, 1.0, "", "a run is unreliable when more of its straight windows were rejected"),
       Flag<O>(
           "overlap_odometry", [](O& o) -> bool& { return o.overlap_odometry; },
           "run the odometry on a second thread while tracking (same results)"),

@@ -1,0 +1,46 @@
+#include "pipescope/pipeline/window_confirmation.h"
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace pipescope {
+
+std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWindowRecord>& windows,
+                                                   int longest_straight_section,
+                                                   const WindowConfirmationOptions& options) {
+  int straight = 0;
+  int rejected = 0;
+  std::map<std::string, int> why;
+  for (const OdometryWindowRecord& window : windows) {
+    if (!window.cylinder) continue;  // T-intersection windows fit no cylinder
+    ++straight;
+    if (window.rejection.empty()) continue;
+    ++rejected;
+    ++why[window.rejection];
+  }
+  std::vector<std::string> reasons;
+  if (straight == 0) {
+    if (longest_straight_section >= options.window_interval) {
+      reasons.push_back("no window adjustment ran in a straight section of " +
+                        std::to_string(longest_straight_section) +
+                        " key frames: the scale rests on single steps");
+    }
+    return reasons;
+  }
+  if (rejected > options.max_rejected_share * straight) {
+    std::ostringstream reason;
+    reason << rejected << " of " << straight << " window adjustments were rejected (";
+    const char* separator = "";
+    for (const auto& [rejection, count] : why) {
+      reason << separator << rejection << ": " << count;
+      separator = ", ";
+    }
+    reason << "; limit " << std::lround(100 * options.max_rejected_share)
+           << " %): the scale rests on single steps";
+    reasons.push_back(reason.str());
+  }
+  return reasons;
+}
+
+}  // namespace pipescope

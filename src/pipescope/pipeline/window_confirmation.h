@@ -1,0 +1,30 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pipescope/estimation/keyframe_odometry.h"
+
+namespace pipescope {
+
+// Whether the window bundle adjustments confirmed a fisheye map's scale. Each key-frame step is
+// scaled by fitting the pipe's radius to the points it sees; the windows (001 §III-C) adjust
+// the steps jointly and correct the bias of the single steps (on a clean 2 m straight run the
+// first window shortens the chained path by 18 %). A window that does not converge is rejected
+// (keyframe_odometry.h), and where most of a straight pipe's windows are rejected its scale
+// rests on the single steps alone: on faint noisy texture such runs ended 0.4-13 % off.
+struct WindowConfirmationOptions {
+  // More than this share of the straight windows rejected: the scale is not confirmed.
+  double max_rejected_share = 0.5;
+  // A straight section of this many key frames holds a window (the odometry's window_interval);
+  // a shorter one has none and needs none.
+  int window_interval = 10;
+};
+
+// The reasons (empty: confirmed) for run.json's quality block. `longest_straight_section`: the
+// key frames of the run's longest straight section.
+std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWindowRecord>& windows,
+                                                   int longest_straight_section,
+                                                   const WindowConfirmationOptions& options = {});
+
+}  // namespace pipescope

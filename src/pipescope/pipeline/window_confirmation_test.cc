@@ -1,0 +1,54 @@
+#include "pipescope/pipeline/window_confirmation.h"
+
+#include <gtest/gtest.h>
+
+namespace pipescope {
+namespace {
+
+OdometryWindowRecord Window(bool cylinder, const std::string& rejection) {
+  OdometryWindowRecord window;
+  window.cylinder = cylinder;
+  window.rejection = rejection;
+  return window;
+}
+
+TEST(WindowConfirmation, HalfTheWindowsRejectedStillConfirms) {
+  const std::vector<OdometryWindowRecord> windows = {Window(true, ""), Window(true, "image rms")};
+  EXPECT_TRUE(WindowConfirmationReasons(windows, 100).empty());
+}
+
+TEST(WindowConfirmation, MostWindowsRejectedSaysHowManyAndWhy) {
+  const std::vector<OdometryWindowRecord> windows = {Window(true, "cylinder rms"),
+                                                     Window(true, "cylinder rms"),
+                                                     Window(true, "image rms"), Window(true, "")};
+  const std::vector<std::string> reasons = WindowConfirmationReasons(windows, 100);
+  ASSERT_EQ(reasons.size(), 1u);
+  EXPECT_NE(reasons[0].find("3 of 4 window adjustments were rejected"), std::string::npos);
+  EXPECT_NE(reasons[0].find("cylinder rms: 2"), std::string::npos);
+  EXPECT_NE(reasons[0].find("image rms: 1"), std::string::npos);
+}
+
+TEST(WindowConfirmation, IntersectionWindowsDoNotCount) {
+  // T-intersection windows (no cylinder) are rejected more often and do not set the scale.
+  const std::vector<OdometryWindowRecord> windows = {Window(false, "path length"),
+                                                     Window(false, "image rms"), Window(true, "")};
+  EXPECT_TRUE(WindowConfirmationReasons(windows, 100).empty());
+}
+
+TEST(WindowConfirmation, NoWindowIsWrongOnlyWhereOneWasDue) {
+  EXPECT_TRUE(WindowConfirmationReasons({}, 9).empty());
+  const std::vector<std::string> reasons = WindowConfirmationReasons({}, 10);
+  ASSERT_EQ(reasons.size(), 1u);
+  EXPECT_NE(reasons[0].find("no window adjustment ran in a straight section of 10 key frames"),
+            std::string::npos);
+}
+
+TEST(WindowConfirmation, TheLimitIsSettable) {
+  const std::vector<OdometryWindowRecord> windows = {Window(true, "image rms"), Window(true, "")};
+  WindowConfirmationOptions strict;
+  strict.max_rejected_share = 0.25;
+  EXPECT_EQ(WindowConfirmationReasons(windows, 100, strict).size(), 1u);
+}
+
+}  // namespace
+}  // namespace pipescope
