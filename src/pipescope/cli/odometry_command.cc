@@ -25,6 +25,7 @@
 #include "pipescope/pipeline/ekf_vo_config.h"
 #include "pipescope/pipeline/sparse_vo.h"
 #include "pipescope/pipeline/sparse_vo_config.h"
+#include "pipescope/pipeline/sparse_vo_verdict.h"
 #include "pipescope/report/run_directory.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
@@ -167,29 +168,8 @@ int RunSparseOdometry(const OdometryFlags& flags) {
                                             : FrameState::kMeasured);
   }
   states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
-  std::vector<std::string> model_reasons;
-  const double radius = *manifest.inner_radius_m;
   report.Extra("cross_section_excursion_m") = result.cross_section_excursion_m;
-  if (options.max_cross_section_excursion > 0.0 &&
-      result.cross_section_excursion_m > options.max_cross_section_excursion * radius) {
-    model_reasons.push_back(fmt::format(
-        "the estimated camera strays {:.1f} mm across the pipe from its start (limit {:.0f} % of "
-        "the radius, {:.1f} mm): the images did not hold its distance to the wall, so the scale "
-        "is not to be trusted",
-        1000.0 * result.cross_section_excursion_m, 100.0 * options.max_cross_section_excursion,
-        1000.0 * options.max_cross_section_excursion * radius));
-  }
-  const double unobserved_share = result.cross_section_excursion_m / result.wall_distance.start_m;
-  if (!WallDistanceMeasured(result.wall_distance) && options.max_unobserved_excursion > 0.0 &&
-      unobserved_share > options.max_unobserved_excursion) {
-    model_reasons.push_back(fmt::format(
-        "this view cannot measure the camera's distance to the wall, and the estimated camera "
-        "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the scale "
-        "follows an excursion the images could not confirm",
-        1000.0 * result.cross_section_excursion_m, 100.0 * unobserved_share,
-        100.0 * options.max_unobserved_excursion));
-  }
-  run.SetQuality(states, model_reasons);
+  run.SetQuality(states, SparseVoVerdictReasons(result, options, *manifest.inner_radius_m));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.key_frames);
   run.WriteSparsePoints(result.points);

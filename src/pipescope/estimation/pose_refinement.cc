@@ -33,6 +33,10 @@ Eigen::Isometry3d RefinePoseOnSurface(const Eigen::Isometry3d& initial,
   Eigen::Isometry3d refined = Eigen::Isometry3d::Identity();
   refined.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
   refined.translation() = position;
+  if (options.max_position_change_radii > 0.0 &&
+      (position - initial.translation()).norm() > options.max_position_change_radii * radius_m) {
+    return initial;
+  }
   return refined;
 }
 

@@ -15,6 +15,11 @@ struct PoseRefinementOptions {
   // least squares, as 000.
   double huber_m = 0.0005;
   int max_iterations = 20;
+  // A refinement that moves the camera further than this fraction of the radius is not taken
+  // (0: any). It corrects a pose the window adjustment already placed; a key frame that sees
+  // too little of the wall (faint, noisy texture) was moved up to the whole radius across the
+  // pipe by it (docs/conditions.md).
+  double max_position_change_radii = 0.025;
 };
 
 struct SurfaceObservation {
@@ -22,8 +27,8 @@ struct SurfaceObservation {
   TrackStatistics track;    // n > 0, without this frame's contribution
 };
 
-// Returns the refined world_from_cam; `initial` when there are fewer than 6 observations or
-// Ceres fails.
+// Returns the refined world_from_cam; `initial` when there are fewer than 6 observations, Ceres
+// fails, or the camera would move too far.
 Eigen::Isometry3d RefinePoseOnSurface(const Eigen::Isometry3d& initial,
                                       const std::vector<SurfaceObservation>& observations,
                                       double radius_m, double phi_reference_rad,

@@ -80,9 +80,22 @@ TEST(MatchDescriptors, EqualsOpenCvBruteForceRatioAndMutualCheck) {
 TEST(KeyFrameSelection, EndsOnFewCorrespondencesOrLargeFlow) {
   KeyFrameOptions options;
   EXPECT_NEAR(MedianFlow({{0, 0}, {0, 0}, {0, 0}}, {{3, 4}, {6, 8}, {0, 1}}), 5.0, 1e-9);
-  EXPECT_FALSE(EndsKeyFrameSpan(200, 10.0, 1000, options));
-  EXPECT_TRUE(EndsKeyFrameSpan(100, 10.0, 1000, options));
-  EXPECT_TRUE(EndsKeyFrameSpan(200, 151.0, 1000, options));
+  EXPECT_FALSE(EndsKeyFrameSpan(200, 0, 10.0, 1000, options));
+  EXPECT_TRUE(EndsKeyFrameSpan(100, 0, 10.0, 1000, options));
+  EXPECT_TRUE(EndsKeyFrameSpan(200, 0, 151.0, 1000, options));
+  // A span that started rich keeps 000's absolute minimum.
+  EXPECT_TRUE(EndsKeyFrameSpan(100, 600, 10.0, 1000, options));
+}
+
+// On faint texture a span starts with few correspondences: it ends when half of them are lost,
+// not at once for want of 150; the flow limit still holds.
+TEST(KeyFrameSelection, APoorSpanEndsOnTheShareLost) {
+  KeyFrameOptions options;
+  EXPECT_FALSE(EndsKeyFrameSpan(30, 60, 10.0, 1000, options));
+  EXPECT_TRUE(EndsKeyFrameSpan(29, 60, 10.0, 1000, options));
+  EXPECT_TRUE(EndsKeyFrameSpan(60, 60, 151.0, 1000, options));
+  options.min_correspondence_fraction = 0.0;  // 000's rule alone
+  EXPECT_TRUE(EndsKeyFrameSpan(59, 60, 10.0, 1000, options));
 }
 
 }  // namespace

@@ -16,9 +16,13 @@ double MedianFlow(const std::vector<cv::Point2f>& from, const std::vector<cv::Po
   return UpperMedian(std::move(lengths));
 }
 
-bool EndsKeyFrameSpan(int correspondences, double median_flow_px, int image_extent_px,
-                      const KeyFrameOptions& options) {
-  return correspondences < options.min_correspondences ||
+bool EndsKeyFrameSpan(int correspondences, int span_start_correspondences, double median_flow_px,
+                      int image_extent_px, const KeyFrameOptions& options) {
+  double minimum = options.min_correspondences;
+  if (options.min_correspondence_fraction > 0 && span_start_correspondences > 0) {
+    minimum = std::min(minimum, options.min_correspondence_fraction * span_start_correspondences);
+  }
+  return correspondences < minimum ||
          median_flow_px > options.max_median_flow_fraction * image_extent_px;
 }
 

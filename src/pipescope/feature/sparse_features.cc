@@ -72,9 +72,10 @@ PairMatches SparseFeatures::Match(const FrameFeatures& key, const FrameFeatures&
   return result;
 }
 
-bool SparseFeatures::EndsSpan(const PairMatches& matches) const {
-  return EndsKeyFrameSpan(static_cast<int>(matches.inliers.size()), matches.median_flow_px,
-                          std::max(camera_.Width(), camera_.Height()), options_.key_frames);
+bool SparseFeatures::EndsSpan(const PairMatches& matches, int span_start_inliers) const {
+  return EndsKeyFrameSpan(static_cast<int>(matches.inliers.size()), span_start_inliers,
+                          matches.median_flow_px, std::max(camera_.Width(), camera_.Height()),
+                          options_.key_frames);
 }
 
 }  // namespace pipescope

@@ -54,8 +54,9 @@ class SparseFeatures {
   FrameFeatures Extract(const cv::Mat& corrected, StageTimes* times) const;
   // `times` (may be null) gets the "matching" and "ransac" stages.
   PairMatches Match(const FrameFeatures& key, const FrameFeatures& frame, StageTimes* times) const;
-  // Whether a frame matched to the key frame by `matches` is too far from it (000 §5.1).
-  bool EndsSpan(const PairMatches& matches) const;
+  // Whether a frame matched to the key frame by `matches` is too far from it (000 §5.1);
+  // `span_start_inliers`: the inliers of the span's first frame (0: not known).
+  bool EndsSpan(const PairMatches& matches, int span_start_inliers) const;
 
  private:
   const Camera& camera_;

@@ -128,6 +128,16 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   };
   std::optional<Candidate> candidate;
   int failed_in_a_row = 0;
+  // Inliers of the first frame localised against the current key frame (0: none yet). A span
+  // ends on a frame that cannot be localised whatever its start had.
+  int span_start_inliers = 0;
+  const auto ends_span = [&](const PairMatches& matches) {
+    const int inliers = static_cast<int>(matches.inliers.size());
+    if (span_start_inliers == 0 && inliers >= options.min_correspondences) {
+      span_start_inliers = inliers;
+    }
+    return inliers < options.min_correspondences || features.EndsSpan(matches, span_start_inliers);
+  };
 
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
   ProgressBar progress("sparse", source->FrameCount());
@@ -191,7 +201,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     }
     PairMatches matches =
         features.Match(odometer.CurrentFeatures(), frame_features, &result.stage_times);
-    if (features.EndsSpan(matches) && candidate) {
+    if (ends_span(matches) && candidate) {
       // 000 §5.1: the frame before the one that ends the span becomes the key frame.
       odometer.Promote(candidate->frame_index, candidate->timestamp, std::move(candidate->features),
                        candidate->matches, candidate->delta_h);
@@ -202,6 +212,8 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
       result.frames[promoted.record].key_frame = true;
       candidate.reset();
       matches = features.Match(odometer.CurrentFeatures(), frame_features, &result.stage_times);
+      span_start_inliers = 0;
+      ends_span(matches);  // the new span's first frame
     }
     record.matches = matches.matched;
     record.inliers = static_cast<int>(matches.inliers.size());
@@ -213,6 +225,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
         odometer.RestartAt(frame->index, frame->timestamp, std::move(frame_features),
                            PredictedPose(odometer, localised, frame->timestamp));
         candidate.reset();
+        span_start_inliers = 0;
         failed_in_a_row = 0;
         record.key_frame = true;
         record.predicted = true;
@@ -232,10 +245,11 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     frame_pose.timestamp = frame->timestamp;
     frame_pose.anchor = odometer.CurrentIndex();
     frame_pose.delta_h = odometer.AxialStep(frame_features, matches, &frame_pose.sightings);
-    if (features.EndsSpan(matches)) {
+    if (ends_span(matches)) {
       // Already too far from the key frame it follows: it becomes a key frame itself.
       odometer.Promote(frame->index, frame->timestamp, std::move(frame_features), matches,
                        frame_pose.delta_h);
+      span_start_inliers = 0;
       frame_pose.anchor = odometer.CurrentIndex();
       frame_pose.delta_h = 0.0;
       frame_pose.sightings.clear();

@@ -45,6 +45,10 @@ struct SparseVoOptions {
   // scale follows that excursion, which the images could not confirm (docs/conditions.md: a
   // 16-inch run 2.2 % off). 0: no check.
   double max_unobserved_excursion = 0.02;
+  // A run whose key frames track a median of fewer keypoints than this is called unreliable:
+  // too little structure to measure the wall distance (half of 000's 150 correspondences a
+  // key-frame span keeps; pipeline/sparse_vo_verdict.h). 0: no check.
+  int min_median_tracked = 75;
   CameraMount mount;
   // Distance from the start camera to the wall it faces (metres): 000's "measured manually"
   // offset. 0 = from the reference scale (f / zeta) when the dataset has one, else the radius

@@ -47,6 +47,10 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           [](O& o) -> int& { return o.features.key_frames.min_correspondences; }, 6, 100000, "",
           "key frames: fewer inliers to the key frame end its span (000 §5.1)"),
       Number<O>(
+          "key_frame_min_correspondence_fraction",
+          [](O& o) -> double& { return o.features.key_frames.min_correspondence_fraction; }, 0.0,
+          1.0, "", "key frames: ... or fewer than this share of the span's first frame's, 0 = off"),
+      Number<O>(
           "key_frame_max_flow_fraction",
           [](O& o) -> double& { return o.features.key_frames.max_median_flow_fraction; }, 0.001,
           1.0, "", "key frames: a median flow above this fraction of the image ends the span"),
@@ -66,6 +70,10 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
       Number<O>(
           "refine_passes", [](O& o) -> int& { return o.odometer.refine_passes; }, 1, 100, "",
           "passes over the refined key frames"),
+      Number<O>(
+          "refine_max_move_radii",
+          [](O& o) -> double& { return o.odometer.refinement.max_position_change_radii; }, 0.0,
+          10.0, "radii", "refinement: a key frame it would move further keeps its pose, 0 = any"),
       Flag<O>(
           "refine_at_end", [](O& o) -> bool& { return o.odometer.refine_at_end; },
           "refine the last window after the last key frame (beyond 000)"),
@@ -141,6 +149,9 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           0.0, 1.0, "",
           "where the view cannot measure the wall distance: share of it the camera may stray "
           "across the pipe before the run is called unreliable, 0 = no check"),
+      Number<O>(
+          "min_median_tracked", [](O& o) -> int& { return o.min_median_tracked; }, 0, 100000, "",
+          "fewer tracked keypoints in the median key frame make the run unreliable, 0 = no check"),
       Choice<O>(
           "axis_along_pipe", [](O& o) -> std::string& { return o.mount.axis_along_pipe; },
           {"x", "-x", "y", "-y"}, "the camera axis that points down the pipe"),

@@ -1,0 +1,57 @@
+#include "pipescope/pipeline/sparse_vo_verdict.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "pipescope/pipeline/wall_distance_statement.h"
+
+namespace pipescope {
+namespace {
+
+// The median of the key frames' tracked keypoints after the first (which has nothing to track);
+// -1 when there is none.
+double MedianTracked(const std::vector<SparseKeyFrameRecord>& key_frames) {
+  std::vector<int> tracked;
+  for (std::size_t k = 1; k < key_frames.size(); ++k) tracked.push_back(key_frames[k].tracked);
+  if (tracked.empty()) return -1.0;
+  const std::size_t middle = tracked.size() / 2;
+  std::nth_element(tracked.begin(), tracked.begin() + middle, tracked.end());
+  return tracked[middle];
+}
+
+}  // namespace
+
+std::vector<std::string> SparseVoVerdictReasons(const SparseVoResult& result,
+                                                const SparseVoOptions& options, double radius_m) {
+  std::vector<std::string> reasons;
+  if (options.max_cross_section_excursion > 0.0 &&
+      result.cross_section_excursion_m > options.max_cross_section_excursion * radius_m) {
+    reasons.push_back(fmt::format(
+        "the estimated camera strays {:.1f} mm across the pipe from its start (limit {:.0f} % of "
+        "the radius, {:.1f} mm): the images did not hold its distance to the wall, so the scale "
+        "is not to be trusted",
+        1000.0 * result.cross_section_excursion_m, 100.0 * options.max_cross_section_excursion,
+        1000.0 * options.max_cross_section_excursion * radius_m));
+  }
+  const double unobserved_share = result.cross_section_excursion_m / result.wall_distance.start_m;
+  if (!WallDistanceMeasured(result.wall_distance) && options.max_unobserved_excursion > 0.0 &&
+      unobserved_share > options.max_unobserved_excursion) {
+    reasons.push_back(fmt::format(
+        "this view cannot measure the camera's distance to the wall, and the estimated camera "
+        "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the scale "
+        "follows an excursion the images could not confirm",
+        1000.0 * result.cross_section_excursion_m, 100.0 * unobserved_share,
+        100.0 * options.max_unobserved_excursion));
+  }
+  const double tracked = MedianTracked(result.summary.key_frame_records);
+  if (options.min_median_tracked > 0 && tracked >= 0.0 && tracked < options.min_median_tracked) {
+    reasons.push_back(fmt::format(
+        "its key frames track a median of {:.0f} keypoints (limit {}): too little of the wall is "
+        "matched to measure the camera's distance to it, so the scale is not to be trusted",
+        tracked, options.min_median_tracked));
+  }
+  return reasons;
+}
+
+}  // namespace pipescope
