@@ -83,6 +83,45 @@ TEST(Presets, SquareLoopFollowsTableOneDistances) {
   }
 }
 
+// The order in which a square-loop route passes its Ts (within the turning radius of a T's
+// centre, counted once per pass).
+std::vector<std::string> TeesPassed(const Layout& layout, double within_m) {
+  std::vector<std::string> passed;
+  std::string near;
+  for (double s = 0.0; s <= layout.route.Length(); s += 0.01) {
+    Eigen::Vector3d point, tangent;
+    layout.route.Evaluate(s, &point, &tangent);
+    std::string here;
+    for (const auto& junction : layout.scene.junctions()) {
+      if ((point - junction.center).norm() < within_m) here = junction.name;
+    }
+    if (!here.empty() && here != near) passed.push_back(here);
+    near = here;
+  }
+  return passed;
+}
+
+TEST(Presets, SquareLoopRoutes) {
+  SimulationConfig config = PresetConfig("fiberglass-network");
+  const Layout a = BuildLayout(config);
+  EXPECT_EQ(TeesPassed(a, config.radius_m), (std::vector<std::string>{"T1", "T2", "T3", "T4"}));
+  config.route = "B";
+  ASSERT_NO_THROW(ValidateConfig(config));
+  const Layout b = BuildLayout(config);
+  EXPECT_EQ(TeesPassed(b, config.radius_m),
+            (std::vector<std::string>{"T1", "T4", "T3", "T2", "T1", "T4"}));
+  // Inside the pipe all the way, and longer by one side and the arm: the loop, T1-T4 again and
+  // T4's arm, against A's loop without its last metre.
+  for (double s = 0.0; s <= b.route.Length(); s += 0.05) {
+    Eigen::Vector3d point, tangent;
+    b.route.Evaluate(s, &point, &tangent);
+    EXPECT_TRUE(b.scene.Contains(point)) << "s = " << s;
+  }
+  EXPECT_GT(b.travel_m, a.travel_m + 8.0);
+  config.route = "C";
+  EXPECT_THROW(ValidateConfig(config), InputError);
+}
+
 TEST(SimulationConfig, SetParsesAndValidatesKeys) {
   SimulationConfig config = PresetConfig("culvert");
   SetConfigValue(&config, "fov_deg=150");

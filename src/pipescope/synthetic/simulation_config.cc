@@ -54,6 +54,9 @@ const OptionTable<SimulationConfig>& SimulationOptionTable() {
       Field<C>("stub_m", &C::stub_m, "square-loop: dead-end arm beyond each T, m"),
       Field<C>("mirror_loop", &C::mirror_loop,
                "square-loop: turn right at every T instead of left (true/false)"),
+      Field<C>("route", &C::route,
+               "square-loop: A (start-T1-T2-T3-T4-end) or B (start-T4-T3-T2-T1-T4-end, T1-T4 "
+               "driven twice)"),
       Field<C>("board_cols", &C::board_cols, "checkerboard: inner corners across"),
       Field<C>("board_rows", &C::board_rows, "checkerboard: inner corners down"),
       Field<C>("board_square_m", &C::board_square_m, "checkerboard: square size, m"),
@@ -184,6 +187,7 @@ void ValidateConfig(const SimulationConfig& c) {
             "must be positive and at most 1.5 radius_m");
     Require(c.stub_m > c.radius_m + c.end_margin_m, "stub_m",
             "must exceed radius_m + end_margin_m");
+    Require(one_of(c.route, {"A", "B"}), "route", "must be A or B");
   }
   Require(c.texture_contrast >= 0, "texture_contrast", "must not be negative");
   Require(c.joint_spacing_m >= 0, "joint_spacing_m", "must not be negative");

@@ -26,6 +26,9 @@ struct SimulationConfig {
   double turn_radius_m = 0.15;   // square-loop: the robot's turning radius inside a T
   double stub_m = 1.5;           // square-loop: length of the dead-end arm beyond each T
   bool mirror_loop = false;      // square-loop: turn right at every T instead of left
+  // square-loop: "A" start-T1-T2-T3-T4-end (001's dataset A); "B" start-T4-T3-T2-T1-T4-end, the
+  // T1-T4 side driven twice so that loop closure has a place seen twice (issue 23).
+  std::string route = "A";
 
   // Calibration board (layout checkerboard): inner corners and square size.
   int board_cols = 9;
