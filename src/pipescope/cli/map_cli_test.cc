@@ -104,6 +104,38 @@ TEST_F(MapCli, RejectedWindowsMakeTheRunUnreliable) {
   EXPECT_TRUE(said) << report["quality"].dump();
 }
 
+// use_cylinder: false makes the straight windows plain bundle adjustments (it used to be
+// overridden by the section's class and change nothing): the windows say so, still count as
+// straight, and the poses differ from the default run's.
+TEST_F(MapCli, UseCylinderFalseIsHonoured) {
+  const auto run_with = [&](const std::string& name, const std::string& extra) {
+    WriteTextFileAtomically(*dir_ / (name + ".yaml"),
+                            "window_interval: 8\nmin_cluster_size: 3\nwindow_threads: 1\n" + extra);
+    const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + Path(name) +
+                                              " --config " + Path(name + ".yaml") + " -q");
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+  };
+  run_with("with_cylinder", "");
+  run_with("without_cylinder", "use_cylinder: false\n");
+  const nlohmann::json with =
+      nlohmann::json::parse(ReadTextFile(Path("with_cylinder") + "/run.json"));
+  const nlohmann::json without =
+      nlohmann::json::parse(ReadTextFile(Path("without_cylinder") + "/run.json"));
+  ASSERT_FALSE(with["windows"].empty());
+  ASSERT_FALSE(without["windows"].empty());
+  for (const nlohmann::json& window : with["windows"]) {
+    EXPECT_TRUE(window["straight"].get<bool>());
+    EXPECT_TRUE(window["cylinder"].get<bool>());
+  }
+  for (const nlohmann::json& window : without["windows"]) {
+    EXPECT_TRUE(window["straight"].get<bool>());
+    EXPECT_FALSE(window["cylinder"].get<bool>());
+    EXPECT_EQ(window["cylinder_rms_m"].get<double>(), 0.0);
+  }
+  EXPECT_NE(ReadTextFile(Path("with_cylinder") + "/keyframes.tum"),
+            ReadTextFile(Path("without_cylinder") + "/keyframes.tum"));
+}
+
 // The odometry overlapped with the tracking sees the same key frames and sections in the same
 // order as the odometry run after it: the same poses to the last digit (Ceres on one thread,
 // whose multi-threaded sums may round differently), and the same on a second overlapped run.

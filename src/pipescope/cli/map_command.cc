@@ -151,6 +151,7 @@ int RunMap(const RunFlags& flags) {
                        {"first_keyframe", window.first_keyframe},
                        {"last_keyframe", window.last_keyframe},
                        {"points", window.points},
+                       {"straight", window.straight},
                        {"cylinder", window.cylinder},
                        {"rejected", !window.rejection.empty()},
                        {"rejection", window.rejection},

@@ -337,17 +337,20 @@ void KeyframeOdometry::AdjustWindow(int first, int last, int section, bool cylin
     }
   }
   if (window.points.size() < 10) return;
-  if (cylinder && options_.axis_prior && window_axis_section_ == section) {
+  // A straight section's window fits the cylinder unless the options turn it off.
+  const bool fits_cylinder = cylinder && options_.window.use_cylinder;
+  if (fits_cylinder && options_.axis_prior && window_axis_section_ == section) {
     window.axis_prior = window_axis_world_;
   }
   StraightWindowOptions window_options = options_.window;
-  window_options.use_cylinder = cylinder;
+  window_options.use_cylinder = fits_cylinder;
   OdometryWindowRecord record;
   record.section = section;
   record.first_keyframe = first;
   record.last_keyframe = last;
   record.points = static_cast<int>(window.points.size());
-  record.cylinder = cylinder;
+  record.straight = cylinder;
+  record.cylinder = fits_cylinder;
   record.summary = OptimiseStraightWindow(camera_, window_options, &window);
   // The window's path length must stay about what the radius-fixed steps gave: a window that
   // shrinks it has fallen into the degenerate solution (cameras together, the informative
@@ -358,8 +361,8 @@ void KeyframeOdometry::AdjustWindow(int first, int last, int section, bool cylin
   record.length_ratio = length_ratio;
   if (record.summary.final_rms_px >= options_.max_window_rms_px) {
     record.rejection = "image rms";
-  } else if (cylinder && record.summary.cylinder_rms_m >=
-                             options_.max_window_cylinder_rms * options_.window.radius_m) {
+  } else if (fits_cylinder && record.summary.cylinder_rms_m >=
+                                  options_.max_window_cylinder_rms * options_.window.radius_m) {
     record.rejection = "cylinder rms";
   } else if (length_ratio * options_.max_window_length_change < 1.0 ||
              length_ratio > options_.max_window_length_change) {
@@ -378,7 +381,7 @@ void KeyframeOdometry::AdjustWindow(int first, int last, int section, bool cylin
     window_tracks[p]->point = window.points[p];
     window_tracks[p]->has_point = true;
   }
-  if (cylinder && section == axis_section_) {
+  if (fits_cylinder && section == axis_section_) {
     // The fitted cylinder (eq. 4, relative to the window's first pose) gives the axis that
     // fixes the following step lengths.
     const PipeAxis axis = StraightCylinderAxis(window.cylinder);

@@ -91,7 +91,8 @@ struct OdometryWindowRecord {
   int first_keyframe = 0;
   int last_keyframe = 0;
   int points = 0;
-  bool cylinder = true;
+  bool straight = true;  // in a straight section (not a T-intersection)
+  bool cylinder = true;  // fitted the straight cylinder (straight, and use_cylinder)
   // Why the window was not applied (empty: applied): "image rms", "cylinder rms" (not
   // converged), "path length", "step spread" (degenerate).
   std::string rejection;

@@ -13,7 +13,7 @@ std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWin
   int rejected = 0;
   std::map<std::string, int> why;
   for (const OdometryWindowRecord& window : windows) {
-    if (!window.cylinder) continue;  // T-intersection windows fit no cylinder
+    if (!window.straight) continue;  // T-intersection windows do not set the scale
     ++straight;
     if (window.rejection.empty()) continue;
     ++rejected;

@@ -5,9 +5,10 @@
 namespace pipescope {
 namespace {
 
-OdometryWindowRecord Window(bool cylinder, const std::string& rejection) {
+OdometryWindowRecord Window(bool straight, const std::string& rejection) {
   OdometryWindowRecord window;
-  window.cylinder = cylinder;
+  window.straight = straight;
+  window.cylinder = straight;
   window.rejection = rejection;
   return window;
 }
