@@ -39,6 +39,16 @@ class MapCli : public testing::Test {
     delete dir_;
   }
   static std::string Path(const std::string& name) { return (*dir_ / name).string(); }
+  // Maps the data set into Path(name) with the test's short-run keys, Ceres on one thread, and
+  // `extra`; returns its keyframes.tum.
+  static std::string RunWith(const std::string& name, const std::string& extra) {
+    WriteTextFileAtomically(*dir_ / (name + ".yaml"),
+                            "window_interval: 8\nmin_cluster_size: 3\nwindow_threads: 1\n" + extra);
+    const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + Path(name) +
+                                              " --config " + Path(name + ".yaml") + " -q");
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    return ReadTextFile(Path(name) + "/keyframes.tum");
+  }
 
   static std::filesystem::path* dir_;
 };
@@ -108,15 +118,8 @@ TEST_F(MapCli, RejectedWindowsMakeTheRunUnreliable) {
 // overridden by the section's class and change nothing): the windows say so, still count as
 // straight, and the poses differ from the default run's.
 TEST_F(MapCli, UseCylinderFalseIsHonoured) {
-  const auto run_with = [&](const std::string& name, const std::string& extra) {
-    WriteTextFileAtomically(*dir_ / (name + ".yaml"),
-                            "window_interval: 8\nmin_cluster_size: 3\nwindow_threads: 1\n" + extra);
-    const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + Path(name) +
-                                              " --config " + Path(name + ".yaml") + " -q");
-    EXPECT_EQ(result.exit_status, 0) << result.output;
-  };
-  run_with("with_cylinder", "");
-  run_with("without_cylinder", "use_cylinder: false\n");
+  const std::string with_poses = RunWith("with_cylinder", "");
+  const std::string without_poses = RunWith("without_cylinder", "use_cylinder: false\n");
   const nlohmann::json with =
       nlohmann::json::parse(ReadTextFile(Path("with_cylinder") + "/run.json"));
   const nlohmann::json without =
@@ -132,25 +135,16 @@ TEST_F(MapCli, UseCylinderFalseIsHonoured) {
     EXPECT_FALSE(window["cylinder"].get<bool>());
     EXPECT_EQ(window["cylinder_rms_m"].get<double>(), 0.0);
   }
-  EXPECT_NE(ReadTextFile(Path("with_cylinder") + "/keyframes.tum"),
-            ReadTextFile(Path("without_cylinder") + "/keyframes.tum"));
+  EXPECT_NE(with_poses, without_poses);
 }
 
 // The odometry overlapped with the tracking sees the same key frames and sections in the same
 // order as the odometry run after it: the same poses to the last digit (Ceres on one thread,
 // whose multi-threaded sums may round differently), and the same on a second overlapped run.
 TEST_F(MapCli, OverlappedOdometryGivesTheSequentialPoses) {
-  const auto run_with = [&](const std::string& name, const std::string& extra) {
-    WriteTextFileAtomically(*dir_ / (name + ".yaml"),
-                            "window_interval: 8\nmin_cluster_size: 3\nwindow_threads: 1\n" + extra);
-    const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + Path(name) +
-                                              " --config " + Path(name + ".yaml") + " -q");
-    EXPECT_EQ(result.exit_status, 0) << result.output;
-    return ReadTextFile(Path(name) + "/keyframes.tum");
-  };
-  const std::string sequential = run_with("sequential", "overlap_odometry: false\n");
-  const std::string overlapped = run_with("overlapped", "");
-  const std::string again = run_with("overlapped_again", "");
+  const std::string sequential = RunWith("sequential", "overlap_odometry: false\n");
+  const std::string overlapped = RunWith("overlapped", "");
+  const std::string again = RunWith("overlapped_again", "");
   ASSERT_GE(CountPoses(Path("sequential") + "/keyframes.tum"), 16);
   EXPECT_EQ(overlapped, sequential);
   EXPECT_EQ(again, sequential);
