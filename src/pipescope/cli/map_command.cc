@@ -204,17 +204,7 @@ int RunMap(const RunFlags& flags) {
   states.insert(states.end(), result.unreadable_frames.size(), FrameState::kNotLocalised);
   // A scale the windows did not confirm is not trusted (on faint, noisy texture most windows
   // are rejected and the single steps' bias stays).
-  int longest_straight_section = 0;
-  for (const FisheyeSection& section : result.sections) {
-    if (section.view_class != PipeViewClass::kStraight) continue;
-    longest_straight_section =
-        std::max(longest_straight_section, section.last_keyframe - section.first_keyframe + 1);
-  }
-  WindowConfirmationOptions confirmation;
-  confirmation.max_rejected_share = options.max_rejected_window_share;
-  confirmation.window_interval = options.odometry.window_interval;
-  run.SetQuality(states,
-                 WindowConfirmationReasons(result.windows, longest_straight_section, confirmation));
+  run.SetQuality(states, WindowConfirmationReasons(result, options));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

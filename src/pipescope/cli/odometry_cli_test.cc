@@ -32,6 +32,16 @@ class OdometryCli : public testing::Test {
     delete dir_;
   }
   static std::string Path(const std::string& name) { return (*dir_ / name).string(); }
+  // Runs sparse on `dataset` into Path(run) with `config` (YAML text) and returns its run.json.
+  static nlohmann::json RunSparse(const std::string& dataset, const std::string& run,
+                                  const std::string& config) {
+    WriteTextFileAtomically(*dir_ / (run + ".yaml"), config);
+    const CommandResult result =
+        RunPipescope("odometry " + Path(dataset) + " --method sparse --out " + Path(run) +
+                     " --config " + Path(run + ".yaml") + " --no-report -q");
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    return nlohmann::json::parse(ReadTextFile(Path(run) + "/run.json"));
+  }
 
   static std::filesystem::path* dir_;
 };
@@ -111,13 +121,8 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   EXPECT_LT(wide_report["cross_section_excursion_m"].get<double>(), 0.25 * 0.07666);
 
   // A run whose camera strays farther across the pipe than the limit is called unreliable.
-  WriteTextFileAtomically(*dir_ / "tight.yaml", "max_cross_section_excursion: 0.0001\n");
-  const CommandResult tight =
-      RunPipescope("odometry " + Path("ds6") + " --method sparse --out " + Path("run-tight") +
-                   " --config " + Path("tight.yaml") + " --no-report -q");
-  ASSERT_EQ(tight.exit_status, 0) << tight.output;
   const nlohmann::json tight_report =
-      nlohmann::json::parse(ReadTextFile(Path("run-tight") + "/run.json"));
+      RunSparse("ds6", "run-tight", "max_cross_section_excursion: 0.0001\n");
   EXPECT_EQ(tight_report["quality"]["verdict"], "unreliable");
   EXPECT_NE(tight_report["quality"]["reasons"].dump().find("strays"), std::string::npos)
       << tight_report["quality"].dump();
@@ -132,15 +137,9 @@ TEST_F(OdometryCli, SparseOnANarrowViewDoubtsAnUnconfirmedExcursion) {
                    " --frames 90 --set width=320 --set height=240 --set speed_m_s=0.1"
                    " --set white_card_count=2 --set out_and_back=false -q");
   ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
-  WriteTextFileAtomically(*dir_ / "doubt.yaml",
-                          "max_unobserved_excursion: 0.000001\nmosaic: false\n"
-                          "sigma_window_px: 1.5\nsigma_derivative_px: 0.75\n");
-  const CommandResult result =
-      RunPipescope("odometry " + Path("ds16-long") + " --method sparse --out " + Path("run-doubt") +
-                   " --config " + Path("doubt.yaml") + " --no-report -q");
-  ASSERT_EQ(result.exit_status, 0) << result.output;
-  const nlohmann::json report =
-      nlohmann::json::parse(ReadTextFile(Path("run-doubt") + "/run.json"));
+  const nlohmann::json report = RunSparse("ds16-long", "run-doubt",
+                                          "max_unobserved_excursion: 0.000001\nmosaic: false\n"
+                                          "sigma_window_px: 1.5\nsigma_derivative_px: 0.75\n");
   EXPECT_EQ(report["wall_distance"]["measured"], false);
   EXPECT_EQ(report["quality"]["verdict"], "unreliable");
   EXPECT_NE(report["quality"]["reasons"].dump().find("could not confirm"), std::string::npos)

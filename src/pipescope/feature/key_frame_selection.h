@@ -13,7 +13,7 @@ struct KeyFrameOptions {
   int min_correspondences = 150;
   // ... or, where the texture gives fewer to begin with, fewer than this fraction of those of
   // the span's first frame (beyond 000: on faint, noisy wall the first frame after a key frame
-  // has 40-60, the absolute 150 made every frame a key frame, and the short baselines lost the
+  // has 20-60, the absolute 150 made every frame a key frame, and the short baselines lost the
   // scale; docs/conditions.md). 0: the absolute number alone.
   double min_correspondence_fraction = 0.5;
   // A median flow above this fraction of the image's larger side ends the span.

@@ -128,15 +128,19 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   };
   std::optional<Candidate> candidate;
   int failed_in_a_row = 0;
-  // Inliers of the first frame localised against the current key frame (0: none yet). A span
-  // ends on a frame that cannot be localised whatever its start had.
+  // Inliers of the first frame localised against the current key frame (0: none yet): the
+  // span's end is measured against them (KeyFrameOptions::min_correspondence_fraction).
   int span_start_inliers = 0;
-  const auto ends_span = [&](const PairMatches& matches) {
+  const auto note_span_start = [&](const PairMatches& matches) {
     const int inliers = static_cast<int>(matches.inliers.size());
     if (span_start_inliers == 0 && inliers >= options.min_correspondences) {
       span_start_inliers = inliers;
     }
-    return inliers < options.min_correspondences || features.EndsSpan(matches, span_start_inliers);
+  };
+  // A frame that cannot be localised ends the span whatever its start had.
+  const auto ends_span = [&](const PairMatches& matches) {
+    return static_cast<int>(matches.inliers.size()) < options.min_correspondences ||
+           features.EndsSpan(matches, span_start_inliers);
   };
 
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
@@ -201,6 +205,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
     }
     PairMatches matches =
         features.Match(odometer.CurrentFeatures(), frame_features, &result.stage_times);
+    note_span_start(matches);
     if (ends_span(matches) && candidate) {
       // 000 §5.1: the frame before the one that ends the span becomes the key frame.
       odometer.Promote(candidate->frame_index, candidate->timestamp, std::move(candidate->features),
@@ -213,7 +218,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
       candidate.reset();
       matches = features.Match(odometer.CurrentFeatures(), frame_features, &result.stage_times);
       span_start_inliers = 0;
-      ends_span(matches);  // the new span's first frame
+      note_span_start(matches);  // the new span's first frame
     }
     record.matches = matches.matched;
     record.inliers = static_cast<int>(matches.inliers.size());

@@ -2,25 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-
 #include "pipescope/pipeline/wall_distance_statement.h"
+#include "pipescope/util/median.h"
 
 namespace pipescope {
-namespace {
-
-// The median of the key frames' tracked keypoints after the first (which has nothing to track);
-// -1 when there is none.
-double MedianTracked(const std::vector<SparseKeyFrameRecord>& key_frames) {
-  std::vector<int> tracked;
-  for (std::size_t k = 1; k < key_frames.size(); ++k) tracked.push_back(key_frames[k].tracked);
-  if (tracked.empty()) return -1.0;
-  const std::size_t middle = tracked.size() / 2;
-  std::nth_element(tracked.begin(), tracked.begin() + middle, tracked.end());
-  return tracked[middle];
-}
-
-}  // namespace
 
 std::vector<std::string> SparseVoVerdictReasons(const SparseVoResult& result,
                                                 const SparseVoOptions& options, double radius_m) {
@@ -44,8 +29,14 @@ std::vector<std::string> SparseVoVerdictReasons(const SparseVoResult& result,
         1000.0 * result.cross_section_excursion_m, 100.0 * unobserved_share,
         100.0 * options.max_unobserved_excursion));
   }
-  const double tracked = MedianTracked(result.summary.key_frame_records);
-  if (options.min_median_tracked > 0 && tracked >= 0.0 && tracked < options.min_median_tracked) {
+  // The first key frame has nothing to track: the median is over the others.
+  const std::vector<SparseKeyFrameRecord>& key_frames = result.summary.key_frame_records;
+  std::vector<double> tracked_counts;
+  for (std::size_t k = 1; k < key_frames.size(); ++k)
+    tracked_counts.push_back(key_frames[k].tracked);
+  const double tracked = UpperMedian(tracked_counts);
+  if (options.min_median_tracked > 0 && !tracked_counts.empty() &&
+      tracked < options.min_median_tracked) {
     reasons.push_back(fmt::format(
         "its key frames track a median of {:.0f} keypoints (limit {}): too little of the wall is "
         "matched to measure the camera's distance to it, so the scale is not to be trusted",

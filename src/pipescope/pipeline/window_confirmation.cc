@@ -1,5 +1,6 @@
 #include "pipescope/pipeline/window_confirmation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -41,6 +42,20 @@ std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWin
     reasons.push_back(reason.str());
   }
   return reasons;
+}
+
+std::vector<std::string> WindowConfirmationReasons(const FisheyeMappingResult& result,
+                                                   const FisheyeMappingOptions& options) {
+  int longest_straight_section = 0;
+  for (const FisheyeSection& section : result.sections) {
+    if (section.view_class != PipeViewClass::kStraight) continue;
+    longest_straight_section =
+        std::max(longest_straight_section, section.last_keyframe - section.first_keyframe + 1);
+  }
+  WindowConfirmationOptions confirmation;
+  confirmation.max_rejected_share = options.max_rejected_window_share;
+  confirmation.window_interval = options.odometry.window_interval;
+  return WindowConfirmationReasons(result.windows, longest_straight_section, confirmation);
 }
 
 }  // namespace pipescope

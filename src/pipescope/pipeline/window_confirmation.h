@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "pipescope/estimation/keyframe_odometry.h"
+#include "pipescope/pipeline/fisheye_mapping.h"
 
 namespace pipescope {
 
@@ -26,5 +27,10 @@ struct WindowConfirmationOptions {
 std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWindowRecord>& windows,
                                                    int longest_straight_section,
                                                    const WindowConfirmationOptions& options = {});
+
+// The same for a map run: its windows and its longest straight section, with the limits of
+// `options` (max_rejected_window_share, the odometry's window_interval).
+std::vector<std::string> WindowConfirmationReasons(const FisheyeMappingResult& result,
+                                                   const FisheyeMappingOptions& options);
 
 }  // namespace pipescope

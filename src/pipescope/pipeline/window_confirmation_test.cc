@@ -51,5 +51,22 @@ TEST(WindowConfirmation, TheLimitIsSettable) {
   EXPECT_EQ(WindowConfirmationReasons(windows, 100, strict).size(), 1u);
 }
 
+// A map run: only its straight sections may owe a window, and the options' limits are used.
+TEST(WindowConfirmation, AMapRunCountsItsLongestStraightSection) {
+  FisheyeMappingResult result;
+  result.sections = {{0, 8, PipeViewClass::kStraight},
+                     {9, 40, PipeViewClass::kTIntersection},
+                     {41, 49, PipeViewClass::kStraight}};
+  FisheyeMappingOptions options;
+  options.odometry.window_interval = 10;
+  EXPECT_TRUE(WindowConfirmationReasons(result, options).empty());  // 9 key frames at most
+  result.sections.push_back({50, 59, PipeViewClass::kStraight});
+  EXPECT_EQ(WindowConfirmationReasons(result, options).size(), 1u);  // 10: one was due
+  result.windows = {Window(true, "image rms"), Window(true, "")};
+  EXPECT_TRUE(WindowConfirmationReasons(result, options).empty());
+  options.max_rejected_window_share = 0.25;
+  EXPECT_EQ(WindowConfirmationReasons(result, options).size(), 1u);
+}
+
 }  // namespace
 }  // namespace pipescope

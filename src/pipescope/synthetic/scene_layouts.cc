@@ -94,17 +94,15 @@ Layout SquareLoopLayout(const SimulationConfig& c) {
   // Both routes start in T1's dead-end arm.
   const Eigen::Vector3d d41 = (t[0] - t[3]).normalized();
   const Eigen::Vector3d start = t[0] + (c.stub_m - c.end_margin_m) * d41;
+  std::vector<Eigen::Vector3d> waypoints = {start, t[0], t[1],
+                                            t[2],  t[3], t[0] - kLoopEndBeforeT1M * d41};
   if (c.route == "B") {
     // Straight through T1 to T4, round the loop the other way back to T1, along T1-T4 a second
     // time, and at T4 into its dead-end arm (side 3's run beyond T4).
     const Eigen::Vector3d d34 = (t[3] - t[2]).normalized();
-    const Eigen::Vector3d end = t[3] + (c.stub_m - c.end_margin_m) * d34;
-    CentrelinePath route({start, t[3], t[2], t[1], t[0], t[3], end}, c.turn_radius_m);
-    const double travel = route.Length();
-    return {std::move(scene), std::move(route), 0.0, travel};
+    waypoints = {start, t[3], t[2], t[1], t[0], t[3], t[3] + (c.stub_m - c.end_margin_m) * d34};
   }
-  const Eigen::Vector3d end = t[0] - kLoopEndBeforeT1M * d41;
-  CentrelinePath route({start, t[0], t[1], t[2], t[3], end}, c.turn_radius_m);
+  CentrelinePath route(waypoints, c.turn_radius_m);
   const double travel = route.Length();
   return {std::move(scene), std::move(route), 0.0, travel};
 }
