@@ -1,0 +1,192 @@
+#include "pipescope/estimation/t_intersection_adjustment.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipescope/estimation/fisheye_reprojection_error.h"
+#include "pipescope/estimation/least_squares_solve.h"
+#include "pipescope/estimation/t_intersection_errors.h"
+#include "pipescope/util/median.h"
+#include "pipescope/util/timer.h"
+
+namespace pipescope {
+namespace {
+
+TIntersectionConstants Constants(const TIntersectionProblem& problem) {
+  TIntersectionConstants constants;
+  constants.red_cam_from_world = problem.poses.front().ToIsometry();
+  std::copy(problem.red_cylinder, problem.red_cylinder + 4, constants.red_cylinder);
+  std::copy(problem.blue_cylinder, problem.blue_cylinder + 4, constants.blue_cylinder);
+  return constants;
+}
+
+Eigen::Vector2d Residual(const Camera& camera, const TIntersectionProblem& problem,
+                         const WindowObservation& observation) {
+  WindowPose pose = problem.poses[observation.pose];
+  if (observation.pose + 1 == static_cast<int>(problem.poses.size())) {
+    pose = WindowPose::FromIsometry(BlueCamFromWorld(problem));
+  }
+  double residual[2];
+  FisheyeReprojectionError error(camera.ModelId(), camera.Params(), observation.pixel);
+  error(pose.rotation, pose.translation, problem.points[observation.point].data(), residual);
+  return Eigen::Vector2d(residual[0], residual[1]);
+}
+
+double ImageRms(const Camera& camera, const TIntersectionProblem& problem) {
+  double sum = 0.0;
+  int count = 0;
+  for (const WindowObservation& observation : problem.observations) {
+    if (!observation.inlier) continue;
+    sum += Residual(camera, problem, observation).squaredNorm();
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+// The cylinder each point belongs to (Fig. 4c) and its distance from that wall.
+struct Assignment {
+  bool blue = false;
+  double distance_m = 0.0;
+};
+
+Assignment Assign(const TIntersectionProblem& problem, const Eigen::Vector3d& point_world,
+                  double radius_m) {
+  const Eigen::Vector3d point_red =
+      CylinderFromCamera(problem.red_cylinder) * (problem.poses.front().ToIsometry() * point_world);
+  Assignment assignment;
+  assignment.blue =
+      NearerIsBlueCylinder(point_red, problem.model, radius_m, &assignment.distance_m);
+  return assignment;
+}
+
+// Observations whose signed Huber-weighted error lies more than mad_factor * 1.4826 * MAD from
+// the median are removed (001 §III-C, used again in §III-D). Returns how many.
+int RemoveOutliers(const Camera& camera, const TIntersectionOptions& options,
+                   TIntersectionProblem* problem) {
+  std::vector<double> weighted;
+  std::vector<Eigen::Vector2d> per_observation(problem->observations.size());
+  for (std::size_t k = 0; k < problem->observations.size(); ++k) {
+    if (!problem->observations[k].inlier) continue;
+    const Eigen::Vector2d e = Residual(camera, *problem, problem->observations[k]);
+    const double norm = e.norm();
+    const double weight = norm <= options.huber_px ? 1.0 : options.huber_px / norm;
+    per_observation[k] = std::sqrt(weight) * e;
+    weighted.push_back(per_observation[k].x());
+    weighted.push_back(per_observation[k].y());
+  }
+  if (weighted.empty()) return 0;
+  const double median = UpperMedian(weighted);
+  std::vector<double> deviations;
+  for (double value : weighted) deviations.push_back(std::abs(value - median));
+  const double mad = std::max(options.min_mad_px, 1.4826 * UpperMedian(deviations));
+  int removed = 0;
+  for (std::size_t k = 0; k < problem->observations.size(); ++k) {
+    WindowObservation& observation = problem->observations[k];
+    if (!observation.inlier) continue;
+    if (std::abs(per_observation[k].x() - median) > options.mad_factor * mad ||
+        std::abs(per_observation[k].y() - median) > options.mad_factor * mad) {
+      observation.inlier = false;
+      ++removed;
+    }
+  }
+  return removed;
+}
+
+std::vector<int> InlierCounts(const TIntersectionProblem& problem) {
+  std::vector<int> count(problem.points.size(), 0);
+  for (const WindowObservation& observation : problem.observations) {
+    if (observation.inlier) ++count[observation.point];
+  }
+  return count;
+}
+
+}  // namespace
+
+Eigen::Isometry3d BlueCamFromWorld(const TIntersectionProblem& problem) {
+  const Eigen::Isometry3d red_from_blue =
+      RedCameraFromBlueCamera(problem.red_cylinder, problem.blue_cylinder, problem.model);
+  return red_from_blue.inverse() * problem.poses.front().ToIsometry();
+}
+
+TIntersectionSummary OptimiseTIntersection(const Camera& camera,
+                                           const TIntersectionOptions& options,
+                                           TIntersectionProblem* problem) {
+  const Timer timer;
+  TIntersectionSummary summary;
+  summary.observations = static_cast<int>(problem->observations.size());
+  const int num_poses = static_cast<int>(problem->poses.size());
+  if (num_poses < 2 || problem->points.empty()) return summary;
+  problem->poses.back() = WindowPose::FromIsometry(BlueCamFromWorld(*problem));
+  summary.initial_rms_px = ImageRms(camera, *problem);
+  const TIntersectionConstants constants = Constants(*problem);
+  const int blue_index = num_poses - 1;
+  const int stages = std::max(1, options.stages);
+
+  for (int stage = 0; stage < stages; ++stage) {
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem ceres_problem(problem_options);
+    ceres::QuaternionManifold quaternion_manifold;
+    const std::vector<int> counts = InlierCounts(*problem);
+    for (const WindowObservation& observation : problem->observations) {
+      if (!observation.inlier || counts[observation.point] < 2) continue;
+      double* point = problem->points[observation.point].data();
+      ceres::LossFunction* loss = new ceres::HuberLoss(options.huber_px);
+      if (observation.pose == blue_index) {
+        ceres_problem.AddResidualBlock(
+            BlueCameraReprojectionError::Create(constants, camera.ModelId(), camera.Params(),
+                                                observation.pixel),
+            loss, problem->model, point);
+      } else {
+        WindowPose& pose = problem->poses[observation.pose];
+        ceres_problem.AddResidualBlock(
+            FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), observation.pixel),
+            loss, pose.rotation, pose.translation, point);
+      }
+    }
+    // Each estimated point against the wall nearer to it now (Fig. 4c); the assignment is
+    // renewed at every stage as the model moves.
+    for (std::size_t k = 0; k < problem->points.size(); ++k) {
+      if (counts[k] < 2) continue;
+      const bool blue = Assign(*problem, problem->points[k], options.radius_m).blue;
+      ceres_problem.AddResidualBlock(
+          TIntersectionCylinderError::Create(constants, blue, options.radius_m, options.tau),
+          new ceres::HuberLoss(options.huber_px), problem->model, problem->points[k].data());
+    }
+    for (int p = 0; p < blue_index; ++p) {
+      WindowPose& pose = problem->poses[p];
+      if (!ceres_problem.HasParameterBlock(pose.rotation)) continue;
+      ceres_problem.SetManifold(pose.rotation, &quaternion_manifold);
+      if (p == 0) {  // P_r: the gauge
+        ceres_problem.SetParameterBlockConstant(pose.rotation);
+        ceres_problem.SetParameterBlockConstant(pose.translation);
+      }
+    }
+    if (!ceres_problem.HasParameterBlock(problem->model)) break;
+    const LeastSquaresOutcome outcome =
+        SolveLeastSquares(&ceres_problem, ceres::DENSE_SCHUR, options.max_iterations_per_stage, 0,
+                          options.num_threads);
+    summary.usable = outcome.usable;
+    problem->poses.back() = WindowPose::FromIsometry(BlueCamFromWorld(*problem));
+    if (stage + 1 < stages) summary.outliers_removed += RemoveOutliers(camera, options, problem);
+  }
+
+  summary.final_rms_px = ImageRms(camera, *problem);
+  const std::vector<int> counts = InlierCounts(*problem);
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t k = 0; k < problem->points.size(); ++k) {
+    if (counts[k] < 2) continue;
+    const Assignment assignment = Assign(*problem, problem->points[k], options.radius_m);
+    (assignment.blue ? summary.blue_points : summary.red_points) += 1;
+    sum += assignment.distance_m * assignment.distance_m;
+    ++count;
+  }
+  summary.cylinder_rms_m = count > 0 ? std::sqrt(sum / count) : 0.0;
+  summary.seconds = timer.ElapsedSeconds();
+  return summary;
+}
+
+}  // namespace pipescope
