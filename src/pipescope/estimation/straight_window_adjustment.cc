@@ -11,9 +11,9 @@
 #include "pipescope/estimation/fisheye_reprojection_cost.h"
 #include "pipescope/estimation/fisheye_reprojection_error.h"
 #include "pipescope/estimation/least_squares_solve.h"
+#include "pipescope/estimation/mad_outliers.h"
 #include "pipescope/estimation/straight_cylinder_cost.h"
 #include "pipescope/estimation/straight_cylinder_error.h"
-#include "pipescope/util/median.h"
 #include "pipescope/util/timer.h"
 
 namespace pipescope {
@@ -211,32 +211,18 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     }
 
     if (stage + 1 >= options.stages) break;
-    // Median absolute deviation of the signed Huber-weighted errors (both components).
-    std::vector<double> weighted;
-    std::vector<Eigen::Vector2d> per_observation(window->observations.size());
+    std::vector<std::optional<Eigen::Vector2d>> errors(window->observations.size());
     for (std::size_t k = 0; k < window->observations.size(); ++k) {
-      const WindowObservation& observation = window->observations[k];
-      if (!observation.inlier) continue;
-      const Eigen::Vector2d e = Residual(camera, *window, observation);
-      const double norm = e.norm();
-      const double weight = norm <= options.huber_px ? 1.0 : options.huber_px / norm;
-      per_observation[k] = std::sqrt(weight) * e;
-      weighted.push_back(per_observation[k].x());
-      weighted.push_back(per_observation[k].y());
-    }
-    const double median = UpperMedian(weighted);
-    std::vector<double> deviations;
-    deviations.reserve(weighted.size());
-    for (double value : weighted) deviations.push_back(std::abs(value - median));
-    const double mad = std::max(options.min_mad_px, 1.4826 * UpperMedian(deviations));
-    for (std::size_t k = 0; k < window->observations.size(); ++k) {
-      WindowObservation& observation = window->observations[k];
-      if (!observation.inlier) continue;
-      if (std::abs(per_observation[k].x() - median) > options.mad_factor * mad ||
-          std::abs(per_observation[k].y() - median) > options.mad_factor * mad) {
-        observation.inlier = false;
-        ++summary.outliers_removed;
+      if (window->observations[k].inlier) {
+        errors[k] = Residual(camera, *window, window->observations[k]);
       }
+    }
+    const std::vector<bool> outliers =
+        MadOutliers(errors, options.huber_px, options.mad_factor, options.min_mad_px);
+    for (std::size_t k = 0; k < window->observations.size(); ++k) {
+      if (!outliers[k]) continue;
+      window->observations[k].inlier = false;
+      ++summary.outliers_removed;
     }
   }
   MoveWorldOrigin(-first_centre, window);

@@ -7,8 +7,8 @@
 
 #include "pipescope/estimation/fisheye_reprojection_error.h"
 #include "pipescope/estimation/least_squares_solve.h"
+#include "pipescope/estimation/mad_outliers.h"
 #include "pipescope/estimation/t_intersection_errors.h"
-#include "pipescope/util/median.h"
 #include "pipescope/util/timer.h"
 
 namespace pipescope {
@@ -61,35 +61,22 @@ Assignment Assign(const TIntersectionProblem& problem, const Eigen::Vector3d& po
   return assignment;
 }
 
-// Observations whose signed Huber-weighted error lies more than mad_factor * 1.4826 * MAD from
-// the median are removed (001 §III-C, used again in §III-D). Returns how many.
+// 001 §III-C's outlier removal, used again in §III-D. Returns how many it removed.
 int RemoveOutliers(const Camera& camera, const TIntersectionOptions& options,
                    TIntersectionProblem* problem) {
-  std::vector<double> weighted;
-  std::vector<Eigen::Vector2d> per_observation(problem->observations.size());
+  std::vector<std::optional<Eigen::Vector2d>> errors(problem->observations.size());
   for (std::size_t k = 0; k < problem->observations.size(); ++k) {
-    if (!problem->observations[k].inlier) continue;
-    const Eigen::Vector2d e = Residual(camera, *problem, problem->observations[k]);
-    const double norm = e.norm();
-    const double weight = norm <= options.huber_px ? 1.0 : options.huber_px / norm;
-    per_observation[k] = std::sqrt(weight) * e;
-    weighted.push_back(per_observation[k].x());
-    weighted.push_back(per_observation[k].y());
+    if (problem->observations[k].inlier) {
+      errors[k] = Residual(camera, *problem, problem->observations[k]);
+    }
   }
-  if (weighted.empty()) return 0;
-  const double median = UpperMedian(weighted);
-  std::vector<double> deviations;
-  for (double value : weighted) deviations.push_back(std::abs(value - median));
-  const double mad = std::max(options.min_mad_px, 1.4826 * UpperMedian(deviations));
+  const std::vector<bool> outliers =
+      MadOutliers(errors, options.huber_px, options.mad_factor, options.min_mad_px);
   int removed = 0;
   for (std::size_t k = 0; k < problem->observations.size(); ++k) {
-    WindowObservation& observation = problem->observations[k];
-    if (!observation.inlier) continue;
-    if (std::abs(per_observation[k].x() - median) > options.mad_factor * mad ||
-        std::abs(per_observation[k].y() - median) > options.mad_factor * mad) {
-      observation.inlier = false;
-      ++removed;
-    }
+    if (!outliers[k]) continue;
+    problem->observations[k].inlier = false;
+    ++removed;
   }
   return removed;
 }
