@@ -1,10 +1,11 @@
 #!/bin/bash
-# Accuracy and speed of `pipescope map` (issue 7, 001 §III A-C) on simulated 1280x960 190-degree
+# Accuracy and speed of `pipescope map` (issues 7 and 23, 001 §III A-D) on simulated 1280x960 190-degree
 # fisheye-poly imagery in a 400 mm pipe: (1) a straight pipe, 8.5 m of travel at 1 cm a frame;
 # (2) the fiberglass-network loop from its start through T1 and the T1-T2 straight section, at
 # 1 cm a frame. Per-section distance error (straight sections from the filtered classification),
-# whole-run metrics and frames per second end to end. Results are recorded in
-# docs/fisheye_mapping.md. Datasets are simulated once into OUT_DIR and kept.
+# whole-run metrics and frames per second end to end; each T-intersection's two-cylinder model
+# (001 §III-D) and the T-to-T centre distances against the scene's (001 Table I). Results are
+# recorded in docs/fisheye_mapping.md. Datasets are simulated once into OUT_DIR and kept.
 # `head` is the straight dataset's first 340 frames (3.39 m, linked, not simulated again): the
 # quick check used while changing the odometry. CONFIG=FILE passes --config FILE to every run.
 # Usage: bench/fisheye_mapping_accuracy.sh [BUILD_DIR] [OUT_DIR] [straight|network|both|head]
@@ -18,7 +19,7 @@ if [ -n "${CONFIG:-}" ]; then CONFIG_FLAGS=(--config "$CONFIG"); fi
 mkdir -p "$OUT"
 source "$(dirname "$0")/fisheye_datasets.sh"
 simulate() { simulate_fisheye "$P" "$OUT" "$@"; } # name, frames, extra --set flags
-report() {  # run directory
+report() {  # run directory, dataset directory
   python3 - "$1" <<'PY'
 import json, sys
 run = sys.argv[1]
@@ -34,23 +35,34 @@ for s in r["sections"]:
           f"error {err if err is None else f'{err:+.2f}'} %")
 print(f"  whole run: distance_error_pct {m['distance_error_pct']}, ate_rmse_m {m['ate_rmse_m']}, "
       f"rpe_1m_pct {m['rpe_1m_pct']}")
+for t in r.get("t_intersections", []):
+    state = "adjusted" if t["adjusted"] else f"kept ({t['rejection']})"
+    extra = ""
+    if "phi_deg" in t:
+        extra = (f", phi {t['phi_deg']:.2f} deg, l_r {t['l_red_m']:.4f} m, l_b {t['l_blue_m']:.4f} m"
+                 f" (from the end cylinders: {t['initial']['l_red_m']:.4f}, {t['initial']['l_blue_m']:.4f})")
+    print(f"  T of section {t['section']} (key frames {t['red_keyframe']}-{t['blue_keyframe']}): {state}{extra}")
 PY
+  if [ -s "$1/junctions.yaml" ] && [ -f "$2/scene.yaml" ]; then  # 001 Table I: T-to-T distances
+    "$P" evaluate --gt "$2/groundtruth.tum" --est "$1/trajectory.tum" --scene "$2/scene.yaml" \
+      --junctions "$1/junctions.yaml" | sed -n '/junction_distances/,$p'
+  fi
 }
 if [ "$WHICH" = head ]; then
   simulate_straight "$P" "$OUT"
   link_straight_head "$OUT"
   H=$OUT/straight-head
   "$P" map "$H" --out "$OUT/straight-head-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
-  report "$OUT/straight-head-run"
+  report "$OUT/straight-head-run" "$H"
   exit 0
 fi
 if [ "$WHICH" != network ]; then
   simulate_straight "$P" "$OUT"
   "$P" map "$OUT/straight" --out "$OUT/straight-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
-  report "$OUT/straight-run"
+  report "$OUT/straight-run" "$OUT/straight"
 fi
 if [ "$WHICH" != straight ]; then
   simulate network 1100
   "$P" map "$OUT/network" --out "$OUT/network-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
-  report "$OUT/network-run"
+  report "$OUT/network-run" "$OUT/network"
 fi

@@ -122,4 +122,12 @@ bool Camera::Unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* bearing) c
   return UnprojectPixel(model_id_, params_.data(), max_angle_, pixel.data(), bearing->data());
 }
 
+double ReprojectionErrorPx(const Camera& camera, const Eigen::Isometry3d& cam_from_world,
+                           const Eigen::Vector3d& point, const Eigen::Vector2d& observed) {
+  Eigen::Vector2d pixel;
+  const ProjectionStatus status = camera.Project(cam_from_world * point, &pixel);
+  if (status == ProjectionStatus::kBehindCamera) return 1e9;
+  return (pixel - observed).norm();
+}
+
 }  // namespace pipescope

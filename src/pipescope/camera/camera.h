@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -70,5 +71,10 @@ class Camera {
 // border (pixels outside a fisheye's image circle excluded): 35 for a 70-degree pinhole, 95 for
 // a 190-degree fisheye. What a method needs to know of the set-up it is given.
 double ImageHalfAngleDeg(const Camera& camera);
+
+// Pixels between where a world point projects in a camera and where it was seen; 1e9 for a point
+// behind the camera.
+double ReprojectionErrorPx(const Camera& camera, const Eigen::Isometry3d& cam_from_world,
+                           const Eigen::Vector3d& point, const Eigen::Vector2d& observed);
 
 }  // namespace pipescope

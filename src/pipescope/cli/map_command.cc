@@ -1,6 +1,6 @@
-// `pipescope map`: fisheye pipe mapping (001 §III A-C), writing a run directory (GUIDE §4):
-// trajectory.tum, keyframes.tum, points_sparse.ply, classification.png, run.json and, with
-// ground truth, metrics.json.
+// `pipescope map`: fisheye pipe mapping (001 §III A-D), writing a run directory (GUIDE §4):
+// trajectory.tum, keyframes.tum, points_sparse.ply, classification.png, junctions.yaml,
+// run.json and, with ground truth, metrics.json.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include "pipescope/cli/run_flags.h"
 #include "pipescope/cli/subcommand.h"
 #include "pipescope/io/dataset.h"
+#include "pipescope/io/junctions.h"
 #include "pipescope/io/trajectory.h"
 #include "pipescope/pipeline/fisheye_mapping.h"
 #include "pipescope/pipeline/fisheye_mapping_config.h"
@@ -82,6 +83,66 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
     sections.push_back(entry);
   }
   return sections;
+}
+
+nlohmann::json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// run.json `t_intersections` (001 §III-D), and the junctions (named J1, J2, ... in the order
+// passed) whose centre a model placed, for junctions.yaml.
+nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
+                                  std::vector<Junction>* junctions) {
+  nlohmann::json entries = nlohmann::json::array();
+  for (const TIntersectionRecord& t : result.t_intersections) {
+    nlohmann::json entry = {{"section", t.section},
+                            {"red_keyframe", t.red_keyframe},
+                            {"blue_keyframe", t.blue_keyframe},
+                            {"adjusted", t.rejection.empty()},
+                            {"rejection", t.rejection},
+                            {"end_fit_points", {t.red_fit_points, t.blue_fit_points}},
+                            {"end_fit_median_m", {t.red_fit_m, t.blue_fit_m}}};
+    if (t.modelled) {
+      Junction junction;
+      junction.name = "J" + std::to_string(junctions->size() + 1);
+      junction.timestamp = t.timestamp;
+      junction.center = t.geometry.centre;
+      junctions->push_back(junction);
+      entry["junction"] = junction.name;
+      entry["center"] = Vector(t.geometry.centre);
+      entry["timestamp"] = t.timestamp;
+      entry["red_axis"] = Vector(t.geometry.red_direction);
+      entry["blue_axis"] = Vector(t.geometry.blue_direction);
+      entry["phi_deg"] = t.model[kPhi] * 180.0 / M_PI;
+      entry["l_red_m"] = t.model[kLengthRed];
+      entry["l_blue_m"] = t.model[kLengthBlue];
+      entry["axis_gap_m"] = t.axis_gap_m;
+      entry["initial"] = {{"phi_deg", t.initial_model[kPhi] * 180.0 / M_PI},
+                          {"l_red_m", t.initial_model[kLengthRed]},
+                          {"l_blue_m", t.initial_model[kLengthBlue]}};
+    }
+    if (t.triangulated_points > 0) {
+      nlohmann::json starts = nlohmann::json::array();
+      for (const auto& [scale, score] : t.start_scores) {
+        starts.push_back({{"scale", scale}, {"score", score}});
+      }
+      entry["starts"] = starts;
+      entry["start_scale"] = t.start_scale;
+      entry["points"] = t.triangulated_points;
+      entry["observations"] = t.summary.observations;
+      entry["outliers_removed"] = t.summary.outliers_removed;
+      entry["initial_rms_px"] = t.summary.initial_rms_px;
+      entry["final_rms_px"] = t.summary.final_rms_px;
+      entry["cylinder_rms_m"] = t.summary.cylinder_rms_m;
+      entry["red_points"] = t.summary.red_points;
+      entry["blue_points"] = t.summary.blue_points;
+      entry["seconds"] = t.summary.seconds;
+    }
+    if (t.rejection.empty()) {
+      entry["blue_shift_m"] = t.blue_shift_m;
+      entry["blue_turn_deg"] = t.blue_turn_deg;
+    }
+    entries.push_back(entry);
+  }
+  return entries;
 }
 
 int RunMap(const RunFlags& flags) {
@@ -164,6 +225,16 @@ int RunMap(const RunFlags& flags) {
                        {"seconds", window.summary.seconds}});
   }
   report.Extra("windows") = windows;
+  std::vector<Junction> junctions;
+  report.Extra("t_intersections") = TIntersectionsJson(result, &junctions);
+  for (const TIntersectionRecord& t : result.t_intersections) {
+    if (t.rejection.empty()) continue;
+    report.Warn("the T-intersection of key frames " + std::to_string(t.red_keyframe) + "-" +
+                std::to_string(t.blue_keyframe) + " kept its chained poses (" + t.rejection +
+                "): the two-cylinder model did not join its straight sections" +
+                (t.modelled ? "; its centre in junctions.yaml is the end cylinders' estimate"
+                            : ", and it is not in junctions.yaml"));
+  }
   nlohmann::json failed = nlohmann::json::array();
   for (const FisheyeFrameFailure& failure : result.failed_frames) {
     failed.push_back(
@@ -214,6 +285,7 @@ int RunMap(const RunFlags& flags) {
     filtered.push_back(keyframe.filtered_class);
   }
   run.WriteImage("classification.png", DrawClassificationStrip(initial, filtered));
+  WriteEstimatedJunctions(run.staging_path() / "junctions.yaml", junctions);
   if (ground_truth) {
     run.WriteMetrics(*ground_truth, result.trajectory, manifest.groundtruth_path.string());
   }

@@ -16,14 +16,6 @@
 namespace pipescope {
 namespace {
 
-double ReprojectionErrorPx(const Camera& camera, const Eigen::Isometry3d& cam_from_world,
-                           const Eigen::Vector3d& point, const Eigen::Vector2d& observed) {
-  Eigen::Vector2d pixel;
-  const ProjectionStatus status = camera.Project(cam_from_world * point, &pixel);
-  if (status == ProjectionStatus::kBehindCamera) return 1e9;
-  return (pixel - observed).norm();
-}
-
 // The key frame's pose refined on the reprojection errors of the already triangulated points
 // (Huber), the points held fixed.
 void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points,
@@ -402,6 +394,22 @@ std::vector<SparsePoint> KeyframeOdometry::Points() const {
     points.push_back({track.point, sections_[track.observations.front().keyframe].section});
   }
   return points;
+}
+
+std::vector<std::vector<KeyframeOdometry::Observation>> KeyframeOdometry::TracksIn(
+    int first, int last, int min_observations) const {
+  std::vector<std::vector<Observation>> tracks;
+  for (const auto& [id, track] : tracks_) {
+    std::vector<Observation> in_range;
+    for (const Observation& observation : track.observations) {
+      if (observation.keyframe >= first && observation.keyframe <= last) {
+        in_range.push_back(observation);
+      }
+    }
+    if (static_cast<int>(in_range.size()) >= min_observations)
+      tracks.push_back(std::move(in_range));
+  }
+  return tracks;
 }
 
 }  // namespace pipescope

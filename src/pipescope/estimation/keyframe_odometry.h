@@ -128,12 +128,17 @@ class KeyframeOdometry {
   // The triangulated points, each with the section of the key frame that first saw it.
   std::vector<SparsePoint> Points() const;
 
- private:
   struct Observation {
     int keyframe;
     Eigen::Vector2d pixel;
     Eigen::Vector3d bearing;
   };
+  // The observations in key frames first..last of every track seen there at least
+  // `min_observations` times: the input of the passes that run after the odometry (the
+  // T-intersections, 001 §III-D).
+  std::vector<std::vector<Observation>> TracksIn(int first, int last, int min_observations) const;
+
+ private:
   struct Track {
     std::vector<Observation> observations;
     bool has_point = false;

@@ -64,6 +64,29 @@ void InterpolateTrajectory(const std::vector<std::pair<int, double>>& frames,
   }
 }
 
+// 001 §III-D after the odometry: each T between two straight sections adjusted with the two-
+// cylinder model; the key frames after it and their points follow P_b, the T's points are the
+// adjusted ones.
+void AdjustTIntersections(const Camera& camera, const KeyframeOdometry& odometry,
+                          const TIntersectionPassOptions& options, FisheyeMappingResult* result) {
+  const StageClock<ProcessCpuTimer> clock;
+  std::vector<int> section_of;
+  std::vector<double> timestamps;
+  std::vector<Eigen::Isometry3d> poses;
+  for (int k = 0; k < odometry.KeyframeCount(); ++k) {
+    section_of.push_back(result->keyframes[k].section);
+    timestamps.push_back(result->keyframes[k].timestamp);
+    poses.push_back(result->keyframes[k].world_from_cam);
+  }
+  std::vector<PipeViewClass> classes;
+  for (const FisheyeSection& section : result->sections) classes.push_back(section.view_class);
+  result->t_intersections =
+      TIntersectionPass(camera, options)
+          .Run(odometry, section_of, classes, timestamps, &poses, &result->points);
+  for (int k = 0; k < odometry.KeyframeCount(); ++k) result->keyframes[k].world_from_cam = poses[k];
+  clock.AddTo(&result->stage_times, "t_intersections");
+}
+
 }  // namespace
 
 FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
@@ -191,6 +214,9 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   }
   result.windows = odometry.windows();
   result.points = odometry.Points();
+  TIntersectionPassOptions t_options = options.t_intersections;
+  t_options.adjustment.radius_m = options.odometry.window.radius_m;  // the dataset's
+  AdjustTIntersections(camera, odometry, t_options, &result);
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     result.keyframe_trajectory.push_back(
         ToStampedPose(keyframe.timestamp, keyframe.world_from_cam));

@@ -10,20 +10,23 @@
 #include "pipescope/image/pipe_view_classification.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/pipeline/t_intersection_pass.h"
 #include "pipescope/util/stage_times.h"
 
 namespace pipescope {
 
-// Fisheye pipe mapping, part 1 (001 §III A-C): feature tracking with key frames, straight /
+// Fisheye pipe mapping (001 §III A-D): feature tracking with key frames, straight /
 // T-intersection classification of the key frames, and visual odometry with the sliding-window
 // bundle adjustment and a local straight cylinder in the straight sections. T-intersection key
 // frames are chained by the same relative-pose and scale steps and adjusted in windows without
-// the cylinder term (the two-cylinder T model of 001 §III-D is part 2).
+// the cylinder term; then the two-cylinder T model (001 §III-D, TIntersectionPass) adjusts each
+// T between two straight sections and joins them.
 struct FisheyeMappingOptions {
   FeatureTrackerOptions tracking;
   PipeViewClassificationOptions classification;
   int min_cluster_size = 10;         // key frames; temporal filtering of the classes (001 Fig. 3d)
   KeyframeOdometryOptions odometry;  // odometry.window.radius_m comes from the dataset
+  TIntersectionPassOptions t_intersections;  // the radius is odometry.window.radius_m
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
   // A run is unreliable when more than this share of its straight windows was rejected
@@ -70,6 +73,7 @@ struct FisheyeMappingResult {
   std::vector<FisheyeKeyframe> keyframes;
   std::vector<FisheyeSection> sections;
   std::vector<OdometryWindowRecord> windows;
+  std::vector<TIntersectionRecord> t_intersections;
   std::vector<SparsePoint> points;
   std::vector<FisheyeFrameFailure> failed_frames;
   std::vector<std::string> unreadable_frames;

@@ -152,6 +152,20 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
       Flag<O>(
           "overlap_odometry", [](O& o) -> bool& { return o.overlap_odometry; },
           "run the odometry on a second thread while tracking (same results)"),
+      // T-intersections (001 §III-D).
+      Flag<O>(
+          "t_model", [](O& o) -> bool& { return o.t_intersections.enabled; },
+          "adjust each T-intersection with the two-cylinder model and join its sections"),
+      Number<O>(
+          "t_end_fit_length_m", [](O& o) -> double& { return o.t_intersections.end_fit_length_m; },
+          0.05, 100.0, "m", "T model: the straight cylinders fit this much travel on each side"),
+      Number<O>(
+          "t_min_turn_deg", [](O& o) -> double& { return o.t_intersections.min_turn_deg; }, 0.0,
+          89.0, "deg", "T model: axes closer to parallel are a pass straight through"),
+      Number<O>(
+          "t_max_axis_gap_radii",
+          [](O& o) -> double& { return o.t_intersections.max_axis_gap_radii; }, 0.0, 100.0, "radii",
+          "T model: the end cylinders' axes must pass this close to meet"),
   });
   return table;
 }

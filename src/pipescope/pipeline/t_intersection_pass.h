@@ -1,0 +1,132 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/estimation/keyframe_odometry.h"
+#include "pipescope/estimation/t_intersection_adjustment.h"
+#include "pipescope/image/pipe_view_classification.h"
+
+namespace pipescope {
+
+struct TIntersectionPassOptions {
+  bool enabled = true;
+  TIntersectionOptions adjustment;  // adjustment.radius_m comes from the dataset
+  // 001 §III-D fits the straight cylinders to the scene points of the first and last metre of
+  // each straight section.
+  double end_fit_length_m = 1.0;
+  // A straight section with less travel than this on either side leaves the T unmodelled.
+  double min_end_length_m = 0.3;
+  // Axes closer than this to parallel are a pass straight through, not a turn: no model.
+  double min_turn_deg = 20.0;
+  // The two end cylinders' axes must pass within this many radii of each other to meet in a T.
+  double max_axis_gap_radii = 1.0;
+  // An adjustment is applied only when it converged: image RMS and wall RMS (times the radius)
+  // as for the straight windows; the end cylinders' fits (median distance) too.
+  double max_rms_px = 1.5;
+  double max_cylinder_rms = 0.05;
+  // ... and when it moves P_b by less than this share of the chained distance from P_r to P_b
+  // (the network's Ts moved it by 7-11 %; a solution that moves it by metres diverged).
+  double max_blue_shift = 0.5;
+  double min_triangulation_angle_deg = 1.5;
+  double max_start_error_px = 10.0;
+  // The adjustment starts from the chained T scaled by each of these about P_r (the chain's
+  // step lengths in a T come from an axis the T's walls do not follow) and keeps the solution
+  // whose capped reprojection errors over all the T's observations are least.
+  // Simulated network: the best starts were 1.4 and 1.2 (the chained Ts 11 % and 5 % short).
+  std::vector<double> start_scales = {0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5};
+};
+
+// One T-intersection of the route as the pass found and adjusted it.
+struct TIntersectionRecord {
+  int section = 0;        // the T-intersection's section
+  int red_keyframe = 0;   // P_r: the straight section's last key frame before the T
+  int blue_keyframe = 0;  // P_b: the next straight section's first key frame
+  // Why the T kept its chained poses (empty: adjusted): "short section", "end cylinder",
+  // "no turn", "axes miss", "too few points", "not converged", "image rms", "cylinder rms",
+  // "moved too far".
+  std::string rejection;
+  bool modelled = false;  // a model (initial or adjusted) places the centre below
+  double model[kTIntersectionParameters] = {0, 0, 0, 0, 0};
+  double initial_model[kTIntersectionParameters] = {0, 0, 0, 0, 0};  // from the end cylinders
+  double axis_gap_m = 0.0;  // between the end cylinders' axes before the adjustment
+  double red_fit_m = 0.0;   // median distance of the end points from their fitted wall
+  double blue_fit_m = 0.0;
+  int red_fit_points = 0;
+  int blue_fit_points = 0;
+  TIntersectionGeometry geometry;  // centre I and the axes, in the world
+  double timestamp = 0.0;          // when the camera passed nearest to I
+  double blue_shift_m = 0.0;       // how far the adjustment moved P_b (and all after it)
+  double blue_turn_deg = 0.0;
+  int triangulated_points = 0;  // the T's points at the start of the adjustment
+  double start_scale = 1.0;     // the start the solution came from
+  std::vector<std::pair<double, double>> start_scores;  // (scale, score) of every start
+  // The rigid move applied to P_b and every key frame after it (identity when not adjusted),
+  // and the T's adjusted points, for the map's point cloud.
+  Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Vector3d> points;
+  TIntersectionSummary summary;
+};
+
+// 001 §III-D over a mapped route, after the odometry: for each T-intersection section between
+// two straight sections, straight cylinders are fitted to the last metre before it (relative
+// to P_r) and the first metre after it (relative to P_b), the T model is started from them,
+// and the T's poses, points and model are adjusted together (OptimiseTIntersection). An
+// adjusted T replaces its key frames' poses and moves P_b and every key frame after it
+// rigidly to where the model puts P_b, so the two straight sections join at the T. The Ts are
+// taken in the order of travel, each on the poses the earlier ones left.
+class TIntersectionPass {
+ public:
+  TIntersectionPass(const Camera& camera, const TIntersectionPassOptions& options)
+      : camera_(camera), options_(options) {}
+
+  // `world_from_cam` per key frame and the map's `points` (each with its section) are updated
+  // in place: the key frames and points after an adjusted T follow its P_b, the T's points are
+  // the adjusted ones. `section_of` and `classes`: each key frame's section and each section's
+  // class; `timestamps` per key frame.
+  std::vector<TIntersectionRecord> Run(const KeyframeOdometry& odometry,
+                                       const std::vector<int>& section_of,
+                                       const std::vector<PipeViewClass>& classes,
+                                       const std::vector<double>& timestamps,
+                                       std::vector<Eigen::Isometry3d>* world_from_cam,
+                                       std::vector<SparsePoint>* points) const;
+
+ private:
+  // The key frames' range of one T: P_r, P_b, and the end stretches fitted (001 Fig. 4a).
+  struct TSpan {
+    int section = 0;
+    int red = 0;
+    int blue = 0;
+    int red_start = 0;
+    int blue_end = 0;
+  };
+  // One adjustment started from the chained T scaled by `scale` about P_r.
+  struct StartedAdjustment {
+    double scale = 1.0;
+    TIntersectionProblem problem;
+    TIntersectionSummary summary;
+    double score = 0.0;  // squared reprojection errors capped at 3 px, over all observations
+  };
+  StartedAdjustment AdjustFromScale(
+      const std::vector<std::vector<KeyframeOdometry::Observation>>& tracks, const TSpan& span,
+      const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
+      double scale) const;
+  TIntersectionRecord AdjustOne(const KeyframeOdometry& odometry, const TSpan& span,
+                                const std::vector<double>& timestamps,
+                                const std::vector<SparsePoint>& points,
+                                std::vector<Eigen::Isometry3d>* world_from_cam) const;
+  // Fits the straight cylinder (eq. 4) relative to key frame `origin` to the map's points of
+  // `section` beside the travel from `origin` to `far`. Returns the points' median distance
+  // from the wall, or a negative value with too little travel or too few points.
+  double FitEndCylinder(const std::vector<SparsePoint>& points, int section, int origin, int far,
+                        const std::vector<Eigen::Isometry3d>& world_from_cam, double cylinder[4],
+                        int* count) const;
+
+  const Camera& camera_;
+  const TIntersectionPassOptions options_;
+};
+
+}  // namespace pipescope
