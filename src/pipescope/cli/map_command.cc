@@ -1,11 +1,13 @@
 // `pipescope map`: fisheye pipe mapping (001 §III A-D), writing a run directory (GUIDE §4):
-// trajectory.tum, keyframes.tum, points_sparse.ply, classification.png, junctions.yaml,
-// run.json and, with ground truth, metrics.json.
+// trajectory.tum, keyframes.tum, points_sparse.ply, points_dense.ply and a dense mosaic per
+// straight section, classification.png, junctions.yaml, run.json and, with ground truth,
+// metrics.json.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -16,6 +18,7 @@
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/junctions.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/mapping/dense_appearance_ply.h"
 #include "pipescope/pipeline/fisheye_mapping.h"
 #include "pipescope/pipeline/fisheye_mapping_config.h"
 #include "pipescope/pipeline/window_confirmation.h"
@@ -143,6 +146,52 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
     entries.push_back(entry);
   }
   return entries;
+}
+
+// points_dense.ply (all pieces), one mosaic per straight section (its pieces' grids one after
+// the other along the pipe, 8 bit, unseen cells black) and run.json `dense_map`.
+void WriteDenseMap(const FisheyeMappingResult& result, const DenseMapPassOptions& options,
+                   RunDirectory* run) {
+  if (!options.enabled) return;
+  std::vector<DenseMapPoint> points;
+  std::map<int, std::vector<cv::Mat>> section_grids;
+  nlohmann::json pieces = nlohmann::json::array();
+  for (const DenseMapPiece& piece : result.dense_map) {
+    points.insert(points.end(), piece.map.points.begin(), piece.map.points.end());
+    cv::Mat grey;
+    piece.map.mean_grey.convertTo(grey, CV_8U);  // NaN converts to 0
+    section_grids[piece.section].push_back(grey);
+    const Eigen::Vector3d& p = piece.cylinder.axis_point;
+    const Eigen::Vector3d& d = piece.cylinder.axis_direction;
+    const Eigen::Vector3d r = piece.cylinder.reference_direction.value_or(Eigen::Vector3d::Zero());
+    pieces.push_back({{"section", piece.section},
+                      {"first_keyframe", piece.first_keyframe},
+                      {"last_keyframe", piece.last_keyframe},
+                      {"axis_point", {p.x(), p.y(), p.z()}},
+                      {"axis_direction", {d.x(), d.y(), d.z()}},
+                      {"reference_direction", {r.x(), r.y(), r.z()}},
+                      {"begin_m", piece.cylinder.begin_m},
+                      {"end_m", piece.cylinder.end_m},
+                      {"rows", piece.map.mean_grey.rows},
+                      {"cols", piece.map.mean_grey.cols},
+                      {"cells_seen", piece.map.points.size()},
+                      {"keyframes_used", piece.keyframes_used},
+                      {"fit_median_m", piece.fit_median_m}});
+  }
+  nlohmann::json mosaics = nlohmann::json::array();
+  for (const auto& [section, grids] : section_grids) {
+    cv::Mat mosaic;
+    cv::vconcat(grids, mosaic);
+    const std::string name = "dense_section_" + std::to_string(section) + ".png";
+    run->WriteImage(name, mosaic);
+    mosaics.push_back({{"section", section}, {"file", name}});
+  }
+  WriteDenseAppearancePly(run->staging_path() / "points_dense.ply", points,
+                          "pipescope map: dense appearance map (001 IV-B), metres, run frame");
+  run->report().Extra("dense_map") = {{"spacing_m", options.appearance.spacing_m},
+                                      {"points", points.size()},
+                                      {"pieces", pieces},
+                                      {"mosaics", mosaics}};
 }
 
 int RunMap(const RunFlags& flags) {
@@ -286,6 +335,7 @@ int RunMap(const RunFlags& flags) {
   }
   run.WriteImage("classification.png", DrawClassificationStrip(initial, filtered));
   WriteEstimatedJunctions(run.staging_path() / "junctions.yaml", junctions);
+  WriteDenseMap(result, options.dense_map, &run);
   if (ground_truth) {
     run.WriteMetrics(*ground_truth, result.trajectory, manifest.groundtruth_path.string());
   }

@@ -106,7 +106,8 @@ DenseAppearanceAccumulator::DenseAppearanceAccumulator(const DenseMapCylinder& c
                                                        const DenseAppearanceOptions& options)
     : grid_(cylinder, options.spacing_m),
       min_colatitude_rad_(options.min_colatitude_deg * M_PI / 180.0),
-      max_colatitude_rad_(options.max_colatitude_deg * M_PI / 180.0) {
+      max_colatitude_rad_(options.max_colatitude_deg * M_PI / 180.0),
+      taper_(options.colatitude_taper) {
   if (!(options.min_colatitude_deg >= 0.0) || !(options.max_colatitude_deg <= 180.0) ||
       !(options.min_colatitude_deg < options.max_colatitude_deg)) {
     throw InputError(
@@ -116,6 +117,7 @@ DenseAppearanceAccumulator::DenseAppearanceAccumulator(const DenseMapCylinder& c
         std::to_string(options.max_colatitude_deg) + ")");
   }
   sum_ = cv::Mat::zeros(grid_.rows(), grid_.cols(), CV_64F);
+  weight_ = cv::Mat::zeros(grid_.rows(), grid_.cols(), CV_64F);
   count_ = cv::Mat::zeros(grid_.rows(), grid_.cols(), CV_32S);
 }
 
@@ -161,6 +163,7 @@ int DenseAppearanceAccumulator::AddKeyFrame(const Camera& camera,
       }
     }
     double* sum = sum_.ptr<double>(row);
+    double* weight_sum = weight_.ptr<double>(row);
     int* count = count_.ptr<int>(row);
     for (int col = 0; col < grid_.cols(); ++col) {
       const Eigen::Vector3d point_cam = row_centre_cam + ring_cam[col];
@@ -173,7 +176,13 @@ int DenseAppearanceAccumulator::AddKeyFrame(const Camera& camera,
                               ? SampleBilinear<uchar>(grey, pixel.x(), pixel.y())
                               : SampleBilinear<float>(grey, pixel.x(), pixel.y());
       if (!std::isfinite(value)) continue;
-      sum[col] += value;
+      // With the taper, a view counts less the nearer it is to the band's edges, so a cell's
+      // mean does not step where one view enters or leaves it (their lighting differs).
+      const double weight = taper_ ? std::sin(M_PI * (colatitude - min_colatitude_rad_) /
+                                              (max_colatitude_rad_ - min_colatitude_rad_))
+                                   : 1.0;
+      sum[col] += weight * value;
+      weight_sum[col] += weight;
       ++count[col];
       ++cells_added;
     }
@@ -188,11 +197,12 @@ DenseAppearanceMap DenseAppearanceAccumulator::Result() const {
   map.count = count_.clone();
   for (int row = 0; row < grid_.rows(); ++row) {
     const double* sum = sum_.ptr<double>(row);
+    const double* weight_sum = weight_.ptr<double>(row);
     const int* count = count_.ptr<int>(row);
     float* mean = map.mean_grey.ptr<float>(row);
     for (int col = 0; col < grid_.cols(); ++col) {
-      if (count[col] == 0) continue;
-      mean[col] = static_cast<float>(sum[col] / count[col]);
+      if (count[col] == 0 || !(weight_sum[col] > 0.0)) continue;
+      mean[col] = static_cast<float>(sum[col] / weight_sum[col]);
       map.points.push_back({grid_.CellPoint(row, col), mean[col], row, col});
     }
   }

@@ -75,6 +75,8 @@ struct DenseAppearanceOptions {
   // optical axis (+Z) and the ray to the point (001 §IV-B).
   double min_colatitude_deg = 50.0;
   double max_colatitude_deg = 90.0;
+  // Weight each view by sin(pi (theta - min) / (max - min)) instead of 001's plain mean.
+  bool colatitude_taper = false;
 };
 
 // A seen cell as a 3D point of the map.
@@ -116,8 +118,10 @@ class DenseAppearanceAccumulator {
   DenseMapGrid grid_;
   double min_colatitude_rad_;
   double max_colatitude_rad_;
-  cv::Mat sum_;    // CV_64F
-  cv::Mat count_;  // CV_32S
+  bool taper_ = false;
+  cv::Mat sum_;     // CV_64F
+  cv::Mat weight_;  // CV_64F: the sum of the views' weights
+  cv::Mat count_;   // CV_32S
   int num_key_frames_ = 0;
 };
 

@@ -217,6 +217,22 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   TIntersectionPassOptions t_options = options.t_intersections;
   t_options.adjustment.radius_m = options.odometry.window.radius_m;  // the dataset's
   AdjustTIntersections(camera, odometry, t_options, &result);
+  {
+    const StageClock<ProcessCpuTimer> clock;
+    MappedRoute route;
+    for (const FisheyeKeyframe& keyframe : result.keyframes) {
+      route.frame_index.push_back(keyframe.frame_index);
+      route.section_of.push_back(keyframe.section);
+      route.world_from_cam.push_back(keyframe.world_from_cam);
+    }
+    for (const FisheyeSection& section : result.sections) {
+      route.section_straight.push_back(section.view_class == PipeViewClass::kStraight);
+    }
+    route.points = result.points;
+    result.dense_map =
+        BuildDenseMap(manifest, camera, route, options.odometry.window.radius_m, options.dense_map);
+    clock.AddTo(&result.stage_times, "dense_map");
+  }
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     result.keyframe_trajectory.push_back(
         ToStampedPose(keyframe.timestamp, keyframe.world_from_cam));

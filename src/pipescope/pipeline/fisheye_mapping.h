@@ -10,6 +10,7 @@
 #include "pipescope/image/pipe_view_classification.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
+#include "pipescope/pipeline/dense_map_pass.h"
 #include "pipescope/pipeline/t_intersection_pass.h"
 #include "pipescope/util/stage_times.h"
 
@@ -27,6 +28,7 @@ struct FisheyeMappingOptions {
   int min_cluster_size = 10;         // key frames; temporal filtering of the classes (001 Fig. 3d)
   KeyframeOdometryOptions odometry;  // odometry.window.radius_m comes from the dataset
   TIntersectionPassOptions t_intersections;  // the radius is odometry.window.radius_m
+  DenseMapPassOptions dense_map;             // 001 §IV-B, after the poses are final
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
   // A run is unreliable when more than this share of its straight windows was rejected
@@ -74,6 +76,7 @@ struct FisheyeMappingResult {
   std::vector<FisheyeSection> sections;
   std::vector<OdometryWindowRecord> windows;
   std::vector<TIntersectionRecord> t_intersections;
+  std::vector<DenseMapPiece> dense_map;
   std::vector<SparsePoint> points;
   std::vector<FisheyeFrameFailure> failed_frames;
   std::vector<std::string> unreadable_frames;

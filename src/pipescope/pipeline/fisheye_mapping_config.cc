@@ -166,6 +166,23 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "t_max_axis_gap_radii",
           [](O& o) -> double& { return o.t_intersections.max_axis_gap_radii; }, 0.0, 100.0, "radii",
           "T model: the end cylinders' axes must pass this close to meet"),
+      // The dense appearance map (001 §IV-B).
+      Flag<O>(
+          "dense_map", [](O& o) -> bool& { return o.dense_map.enabled; },
+          "write points_dense.ply and a mosaic per straight section"),
+      Number<O>(
+          "dense_spacing_m", [](O& o) -> double& { return o.dense_map.appearance.spacing_m; },
+          0.0002, 0.1, "m", "dense map: distance between points on the wall"),
+      Flag<O>(
+          "dense_taper", [](O& o) -> bool& { return o.dense_map.appearance.colatitude_taper; },
+          "dense map: views weighted by a sine over the colatitude band (false: 001's mean)"),
+      Number<O>(
+          "dense_piece_length_m", [](O& o) -> double& { return o.dense_map.piece_length_m; }, 0.05,
+          100.0, "m", "dense map: travel mapped on one fitted cylinder"),
+      Number<O>(
+          "dense_keyframe_spacing_m",
+          [](O& o) -> double& { return o.dense_map.keyframe_spacing_m; }, 0.0, 10.0, "m",
+          "dense map: key frames closer than this along the path are skipped"),
   });
   return table;
 }

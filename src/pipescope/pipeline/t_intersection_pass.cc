@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "pipescope/geometry/multiview_triangulation.h"
-#include "pipescope/util/median.h"
+#include "pipescope/pipeline/section_cylinder.h"
 
 namespace pipescope {
 namespace {
@@ -108,39 +108,20 @@ double TIntersectionPass::FitEndCylinder(const std::vector<SparsePoint>& points,
                                          int origin, int far,
                                          const std::vector<Eigen::Isometry3d>& world_from_cam,
                                          double cylinder[4], int* count) const {
-  StraightWindow window;
-  window.poses.push_back(WindowPose::FromIsometry(world_from_cam[origin].inverse()));
   // Only the points beside this stretch of pipe, none on the T's side of the origin camera:
   // the cameras see into the T, whose walls are not this cylinder's. A radius of slack on the
   // far side.
-  const Eigen::Vector3d origin_centre = Centre(world_from_cam[origin]);
-  const Eigen::Vector3d away = Centre(world_from_cam[far]) - origin_centre;
-  const double length = away.norm();
-  if (length < options_.min_end_length_m) return -1.0;
+  const Eigen::Vector3d far_centre = Centre(world_from_cam[far]);
+  if ((far_centre - Centre(world_from_cam[origin])).norm() < options_.min_end_length_m) {
+    return -1.0;
+  }
   const double radius = options_.adjustment.radius_m;
-  for (const SparsePoint& point : points) {
-    if (point.section != section) continue;
-    const double s = (point.position - origin_centre).dot(away) / length;
-    if (s < 0.0 || s > length + radius) continue;
-    window.points.push_back(point.position);
-  }
-  *count = static_cast<int>(window.points.size());
-  if (window.points.size() < 20) return -1.0;
-  StraightWindowOptions fit;
-  fit.radius_m = radius;
-  std::fill(window.cylinder, window.cylinder + 4, 0.0);
-  FitStraightCylinder(fit, &window);
-  std::copy(window.cylinder, window.cylinder + 4, cylinder);
-  // The median distance from the wall: robust to the mismatched tracks the fit's Huber loss
-  // discounted.
-  const PipeAxis axis = StraightCylinderAxis(cylinder);
-  const Eigen::Isometry3d cam_from_world = world_from_cam[origin].inverse();
-  std::vector<double> distances;
-  for (const Eigen::Vector3d& point : window.points) {
-    const Eigen::Vector3d v = cam_from_world * point - axis.point;
-    distances.push_back(std::abs((v - v.dot(axis.direction) * axis.direction).norm() - radius));
-  }
-  return UpperMedian(distances);
+  const std::optional<SectionCylinderFit> fit =
+      FitSectionCylinder(points, section, world_from_cam[origin], far_centre, radius, radius);
+  if (!fit) return -1.0;
+  *count = fit->points;
+  std::copy(fit->cylinder, fit->cylinder + 4, cylinder);
+  return fit->median_distance_m;
 }
 
 TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
