@@ -24,8 +24,8 @@ void CheckOptions(const EvaluationOptions& options) {
   if (!(options.rpe_segment_m > 0)) {
     throw std::invalid_argument("EvaluationOptions: rpe_segment_m must be positive");
   }
-  if (!(options.out_and_back_fraction >= 0 && options.out_and_back_fraction <= 1)) {
-    throw std::invalid_argument("EvaluationOptions: out_and_back_fraction outside [0, 1]");
+  if (!(options.min_return_fraction > 0 && options.min_return_fraction <= 1)) {
+    throw std::invalid_argument("EvaluationOptions: min_return_fraction outside (0, 1]");
   }
 }
 
@@ -41,7 +41,7 @@ std::string TimeSpan(const Trajectory& trajectory) {
 
 // Distances along the run (000 §6.1). Distances use the raw estimate: aligning with Sim(3)
 // first would hide exactly the scale error eq. 50 measures.
-void ComputeDistances(const MatchedPoses& poses, double out_and_back_fraction, Metrics* metrics) {
+void ComputeDistances(const MatchedPoses& poses, double min_return_fraction, Metrics* metrics) {
   const auto& gt = poses.gt_positions;
   const auto& est = poses.est_positions;
   const std::size_t last = gt.size() - 1;
@@ -57,7 +57,8 @@ void ComputeDistances(const MatchedPoses& poses, double out_and_back_fraction, M
   }
   const double gt_net = (gt[last] - gt[0]).norm();
   const double est_net = (est[last] - est[0]).norm();
-  metrics->out_and_back = max_reach > 0 && gt_net < out_and_back_fraction * max_reach;
+  const double return_gt = (gt[last] - gt[turnaround]).norm();
+  metrics->out_and_back = max_reach > 0 && return_gt >= min_return_fraction * max_reach;
   if (!metrics->out_and_back) {
     metrics->distance_gt_m = gt_net;
     metrics->distance_est_m = est_net;
@@ -175,7 +176,7 @@ Metrics EvaluateTrajectory(const Trajectory& ground_truth, const Trajectory& est
   metrics.frames_gt = ground_truth.size();
   metrics.frames_est = estimate.size();
   metrics.frames_matched = pairs.size();
-  ComputeDistances(poses, options.out_and_back_fraction, &metrics);
+  ComputeDistances(poses, options.min_return_fraction, &metrics);
   ComputeAbsoluteError(poses, options.alignment, &metrics);
   metrics.rpe_1m_pct = RelativeTranslationErrorPct(poses, options.rpe_segment_m);
   return metrics;

@@ -104,17 +104,41 @@ TEST(TrajectoryMetrics, OutAndBackLegErrors) {
   EXPECT_NEAR(*metrics.return_error_pct, 1.0, 1e-9);
 }
 
-TEST(TrajectoryMetrics, OutAndBackThresholdFollowsFraction) {
-  // Out 2 m, back 1.7 m: ends 0.3 m (15 %) from the start.
+TEST(TrajectoryMetrics, OutAndBackThresholdFollowsTheReturnedFraction) {
+  // Out 2 m, back 1.7 m (85 %, ending 0.3 m from the start): out and back by default (half).
   const Trajectory gt = MakeTrajectory(
       38, [](int i) { return Eigen::Vector3d(0, 0, i <= 20 ? 0.1 * i : 2.0 - 0.1 * (i - 20)); });
   EvaluationOptions options;
-  EXPECT_FALSE(EvaluateTrajectory(gt, gt, options).out_and_back);
-  options.out_and_back_fraction = 0.2;
-  const Metrics metrics = EvaluateTrajectory(gt, gt, options);
+  Metrics metrics = EvaluateTrajectory(gt, gt, options);
   EXPECT_TRUE(metrics.out_and_back);
   EXPECT_NEAR(metrics.distance_gt_m, 3.7, 1e-12);
   EXPECT_NEAR(*metrics.return_error_pct, 0.0, 1e-12);
+  options.min_return_fraction = 0.9;
+  metrics = EvaluateTrajectory(gt, gt, options);
+  EXPECT_FALSE(metrics.out_and_back);
+  EXPECT_NEAR(metrics.distance_gt_m, 0.3, 1e-12);  // one-way: the net displacement
+  // Out 2 m, back 0.4 m (20 %): one-way by default.
+  const Trajectory short_return = MakeTrajectory(
+      25, [](int i) { return Eigen::Vector3d(0, 0, i <= 20 ? 0.1 * i : 2.0 - 0.1 * (i - 20)); });
+  EXPECT_FALSE(EvaluateTrajectory(short_return, short_return, {}).out_and_back);
+}
+
+TEST(TrajectoryMetrics, ARunThatComesBackMostOfTheWayIsScoredByItsLegs) {
+  // The culvert's seed 43: 1 m out, 0.81 m back. The estimate is 0.1 % long out and 2 mm short
+  // of that back: by its legs 0.01 % over the 1.81 m; by its net displacement (0.192 m for
+  // 0.190 m), the one-way score before, 1.2 %.
+  const auto path = [](double out, double back) {
+    return [out, back](int i) {
+      return Eigen::Vector3d(0, 0, i <= 100 ? out * i / 100 : out - back * (i - 100) / 81.0);
+    };
+  };
+  const Trajectory gt = MakeTrajectory(182, path(1.0, 0.81));
+  const Trajectory est = MakeTrajectory(182, path(1.001, 0.81 * 1.001 - 0.002));
+  const Metrics metrics = EvaluateTrajectory(gt, est, {});
+  ASSERT_TRUE(metrics.out_and_back);
+  EXPECT_NEAR(metrics.distance_gt_m, 1.81, 1e-12);
+  EXPECT_NEAR(*metrics.forward_error_pct, 0.1, 1e-9);
+  EXPECT_LT(*metrics.distance_error_pct, 0.2);
 }
 
 TEST(TrajectoryMetrics, ReturnErrorComparesTheLegsNotWhereTheRunsEnd) {
