@@ -286,19 +286,24 @@ TEST_F(MapCli, BadInputExitsTwoAndNamesTheCulprit) {
   WriteTextFileAtomically(*dir_ / "typo.yaml", "window_intervall: 5\n");
   WriteTextFileAtomically(*dir_ / "value.yaml", "tau: big\n");
   const std::string ds = Path("ds");
+  // The same data set with a gain mask of another size than the frames: the dense map would
+  // only read it after the odometry, so the run must refuse it before it starts.
+  std::filesystem::copy(ds, Path("small_mask"), std::filesystem::copy_options::recursive);
+  cv::imwrite(Path("small_mask") + "/gain_mask.png", cv::Mat(10, 10, CV_8U, cv::Scalar(200)));
   const std::vector<Case> cases = {
       {ds + " --out " + Path("bad1") + " --config " + Path("typo.yaml"), "window_intervall"},
       {ds + " --out " + Path("bad2") + " --config " + Path("value.yaml"), "tau"},
       {ds + " --out " + Path("bad3") + " --config " + Path("missing.yaml"), "missing.yaml"},
       {Path("no_such_dataset") + " --out " + Path("bad4"), "no_such_dataset"},
       {ds + "/images --out " + Path("bad5"), "--camera"},
+      {Path("small_mask") + " --out " + Path("bad6"), "gain_mask.png"},
   };
   for (const Case& c : cases) {
     const CommandResult result = RunPipescope("map " + c.arguments + " -q");
     EXPECT_EQ(result.exit_status, 2) << c.arguments << "\n" << result.output;
     EXPECT_NE(result.output.find(c.culprit), std::string::npos) << result.output;
   }
-  for (const char* bad : {"bad1", "bad2", "bad3", "bad4", "bad5"}) {
+  for (const char* bad : {"bad1", "bad2", "bad3", "bad4", "bad5", "bad6"}) {
     EXPECT_FALSE(std::filesystem::exists(Path(bad))) << bad;
   }
 }

@@ -158,8 +158,9 @@ void WriteDenseMap(const FisheyeMappingResult& result, const DenseMapPassOptions
   nlohmann::json pieces = nlohmann::json::array();
   for (const DenseMapPiece& piece : result.dense_map) {
     points.insert(points.end(), piece.map.points.begin(), piece.map.points.end());
-    cv::Mat grey;
-    piece.map.mean_grey.convertTo(grey, CV_8U);  // NaN converts to 0
+    cv::Mat grey = piece.map.mean_grey.clone();
+    cv::patchNaNs(grey, 0.0);  // unseen cells black
+    grey.convertTo(grey, CV_8U);
     section_grids[piece.section].push_back(grey);
     const Eigen::Vector3d& p = piece.cylinder.axis_point;
     const Eigen::Vector3d& d = piece.cylinder.axis_direction;

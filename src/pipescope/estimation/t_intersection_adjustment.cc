@@ -134,7 +134,8 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
       }
     }
     // Each estimated point against the wall nearer to it now (Fig. 4c); the assignment is
-    // renewed at every stage as the model moves.
+    // renewed at every stage as the model moves. Huber on sqrt(tau) e with the image term's
+    // threshold, as the straight windows do.
     for (std::size_t k = 0; k < problem->points.size(); ++k) {
       if (counts[k] < 2) continue;
       const bool blue = Assign(*problem, problem->points[k], options.radius_m).blue;

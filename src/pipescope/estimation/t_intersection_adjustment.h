@@ -16,8 +16,7 @@ namespace pipescope {
 // wall of the cylinder whose surface is nearer (eq. 6, Fig. 4c), with the same tau, Huber
 // weighting and MAD outlier removal as the straight windows. The two cylinders C_r and C_b were
 // fitted to the ends of the straight sections (001 Fig. 4a) and stay as they are; P_r is the
-// gauge; P_b is not free but placed by Phi (eq. 8), so the images seen from it and after it
-// measure Phi.
+// gauge; P_b is not free but placed by Phi (eq. 8), so the images seen from it measure Phi.
 struct TIntersectionOptions {
   double radius_m = 0.2;
   double tau = 2.5e5;

@@ -12,9 +12,10 @@ namespace pipescope {
 // cylinders of one radius, the red one fitted relative to camera pose P_r and the blue one
 // relative to P_b (each parameterised as eq. 4, 4 DOF), meet at one point I. Five parameters
 // Phi = (zeta_r, l_r, zeta_b, l_b, phi) fix the change of pose between P_b and P_r:
-// zeta_r, zeta_b turn about each cylinder's own axis, l_r, l_b are the signed distances of
-// the cylinder origins O(C_r), O(C_b) (each camera's foot on its axis) from I along the axis,
-// and phi in [0, 180) degrees is the angle between the two axes.
+// zeta_r, zeta_b turn about each cylinder's own axis, l_r, l_b place I on each axis (I is at
+// z = l along the axis from the cylinder's origin O(C), each camera's foot on its axis: the
+// distances 001 names, signed by the axis's direction), and phi in [0, 180) degrees is the angle
+// between the two axes.
 //
 // Eq. 7 as printed composes its two factors so that I lands on the blue cylinder's origin,
 // which leaves l_r and l_b redundant (only their sum acts). We keep the parameters' stated

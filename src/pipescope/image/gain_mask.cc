@@ -81,4 +81,13 @@ cv::Mat ReadGainMask(const std::filesystem::path& path) {
   return NormaliseToUnitMaximum(ToFloatGrey(image), "gain mask " + path.string());
 }
 
+cv::Mat ReadDatasetGainMask(const std::filesystem::path& path, int width, int height) {
+  if (path.empty()) return cv::Mat();
+  cv::Mat mask = ReadGainMask(path);
+  if (mask.cols != width || mask.rows != height) {
+    throw InputError(path.string() + ": gain mask size differs from the camera's");
+  }
+  return mask;
+}
+
 }  // namespace pipescope

@@ -27,4 +27,8 @@ void WriteGainMask(const std::filesystem::path& path, const cv::Mat& mask);
 // naming the file when it is missing, unreadable or zero.
 cv::Mat ReadGainMask(const std::filesystem::path& path);
 
+// A dataset's gain mask for frames of width x height: empty for an empty path (no mask), else
+// ReadGainMask; throws InputError naming the file when its size differs from the frames'.
+cv::Mat ReadDatasetGainMask(const std::filesystem::path& path, int width, int height);
+
 }  // namespace pipescope

@@ -111,10 +111,9 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
   // in every frame of a pipe: without it each cell's mean carries the shading of the image
   // places it was seen at. Scaled by the mask's mean, the map keeps about the frames' grey range.
   cv::Mat factors;
-  if (!manifest.gain_mask_path.empty()) {
-    const cv::Mat mask = ReadGainMask(manifest.gain_mask_path);
-    factors = GainCorrectionFactors(mask) * cv::mean(mask)[0];
-  }
+  const cv::Mat mask =
+      ReadDatasetGainMask(manifest.gain_mask_path, camera.Width(), camera.Height());
+  if (!mask.empty()) factors = GainCorrectionFactors(mask) * cv::mean(mask)[0];
   auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
   cv::Mat grey;
   while (std::optional<Frame> frame = source->Next()) {

@@ -68,12 +68,7 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
   TubularEkfOptions filter_options = options.filter;
   if (!options.metric) filter_options.radius_prior_sigma = 0.0;
   const cv::Mat gain_mask =
-      manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
-  if (!gain_mask.empty() &&
-      (gain_mask.cols != camera.Width() || gain_mask.rows != camera.Height())) {
-    throw InputError(manifest.gain_mask_path.string() +
-                     ": gain mask size differs from the camera's");
-  }
+      ReadDatasetGainMask(manifest.gain_mask_path, camera.Width(), camera.Height());
 
   EkfVoResult result;
   result.metric = options.metric;

@@ -7,6 +7,7 @@
 #include <string>
 #include <thread>
 
+#include "pipescope/image/gain_mask.h"
 #include "pipescope/image/settled_sections.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/io/trajectory.h"
@@ -92,6 +93,10 @@ void AdjustTIntersections(const Camera& camera, const KeyframeOdometry& odometry
 FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
                                        const FisheyeMappingOptions& options) {
   FisheyeMappingResult result;
+  // The dense map reads the gain mask after the odometry: a bad one must stop the run now.
+  if (options.dense_map.enabled) {
+    ReadDatasetGainMask(manifest.gain_mask_path, camera.Width(), camera.Height());
+  }
   FeatureTracker tracker(camera, options.tracking);
   const PipeViewClassifier classifier(camera, options.classification);
   std::vector<std::pair<int, double>> usable_frames;

@@ -160,7 +160,7 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "t_end_fit_length_m", [](O& o) -> double& { return o.t_intersections.end_fit_length_m; },
           0.05, 100.0, "m", "T model: the straight cylinders fit this much travel on each side"),
       Number<O>(
-          "t_min_turn_deg", [](O& o) -> double& { return o.t_intersections.min_turn_deg; }, 0.0,
+          "t_min_turn_deg", [](O& o) -> double& { return o.t_intersections.min_turn_deg; }, 5.0,
           89.0, "deg", "T model: axes closer to parallel are a pass straight through"),
       Number<O>(
           "t_max_axis_gap_radii",
@@ -172,7 +172,7 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "write points_dense.ply and a mosaic per straight section"),
       Number<O>(
           "dense_spacing_m", [](O& o) -> double& { return o.dense_map.appearance.spacing_m; },
-          0.0002, 0.1, "m", "dense map: distance between points on the wall"),
+          0.0005, 0.1, "m", "dense map: distance between points on the wall"),
       Flag<O>(
           "dense_taper", [](O& o) -> bool& { return o.dense_map.appearance.colatitude_taper; },
           "dense map: views weighted by a sine over the colatitude band (false: 001's mean)"),

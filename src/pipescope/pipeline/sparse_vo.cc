@@ -107,12 +107,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   if (!start_measured) effective.odometer.window.cross_section_anchor_sigma_m = 0.0;
   effective.odometer.window.cross_section_anchor_xy = start.translation().head<2>();
   const cv::Mat gain_mask =
-      manifest.gain_mask_path.empty() ? cv::Mat() : ReadGainMask(manifest.gain_mask_path);
-  if (!gain_mask.empty() &&
-      (gain_mask.cols != camera.Width() || gain_mask.rows != camera.Height())) {
-    throw InputError(manifest.gain_mask_path.string() +
-                     ": gain mask size differs from the camera's");
-  }
+      ReadDatasetGainMask(manifest.gain_mask_path, camera.Width(), camera.Height());
 
   const SparseFeatures features(camera, options.features);
   SparseOdometer odometer(camera, radius, start, effective.odometer, features, &result.stage_times);

@@ -130,7 +130,6 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
     double scale) const {
   StartedAdjustment started;
   started.scale = scale;
-  started.problem.poses.clear();
   std::copy(cylinders.red_cylinder, cylinders.red_cylinder + 4, started.problem.red_cylinder);
   std::copy(cylinders.blue_cylinder, cylinders.blue_cylinder + 4, started.problem.blue_cylinder);
   TIntersectionProblem& problem = started.problem;
@@ -155,11 +154,12 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
                                          .world_from_blue_camera *
                                      start.back().inverse();
   const int last = static_cast<int>(start.size()) - 1;
+  // The path fractions on the scaled chain, before any pose moves.
+  std::vector<double> fraction(start.size(), 0.0);
   const double length = std::max(1e-9, PathLength(start, 0, last));
+  for (int k = 1; k <= last; ++k) fraction[k] = PathLength(start, 0, k) / length;
   const Eigen::Vector3d pivot = Centre(start.back());
-  for (int k = 1; k <= last; ++k) {
-    start[k] = PartialMove(to_model, pivot, PathLength(start, 0, k) / length) * start[k];
-  }
+  for (int k = 1; k <= last; ++k) start[k] = PartialMove(to_model, pivot, fraction[k]) * start[k];
   for (const Eigen::Isometry3d& pose : start) {
     problem.poses.push_back(WindowPose::FromIsometry(pose.inverse()));
   }
@@ -218,7 +218,7 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   record.blue_fit_m = FitEndCylinder(points, section + 1, blue, blue_end, poses,
                                      problem.blue_cylinder, &record.blue_fit_points);
   if (record.red_fit_m < 0.0 || record.blue_fit_m < 0.0) {
-    record.rejection = "short section";
+    record.rejection = "short section";  // too little travel or fewer than 20 points beside it
     return record;
   }
   if (std::max(record.red_fit_m, record.blue_fit_m) >= options_.max_cylinder_rms * radius) {
@@ -248,11 +248,11 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
       }
     }
   };
-  place(problem.model);
   if (record.axis_gap_m > options_.max_axis_gap_radii * radius) {
-    record.rejection = "axes miss";
+    record.rejection = "axes miss";  // no centre: the two axes do not meet
     return record;
   }
+  place(problem.model);
 
   // The chain through the T took its step lengths from the straight section's axis, which the
   // T's walls do not follow, so its length is off (10-11 % short on the simulated network), and

@@ -28,8 +28,9 @@ struct TIntersectionPassOptions {
   // as for the straight windows; the end cylinders' fits (median distance) too.
   double max_rms_px = 1.5;
   double max_cylinder_rms = 0.05;
-  // ... and when it moves P_b by less than this share of the chained distance from P_r to P_b
-  // (the network's Ts moved it by 7-11 %; a solution that moves it by metres diverged).
+  // ... and when it moves P_b by less than this share of the chained straight-line distance
+  // from P_r to P_b (the network's Ts moved it by 7-14 %; a solution that moves it by metres
+  // diverged).
   double max_blue_shift = 0.5;
   double min_triangulation_angle_deg = 1.5;
   double max_start_error_px = 10.0;
