@@ -108,6 +108,7 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
       junction.name = "J" + std::to_string(junctions->size() + 1);
       junction.timestamp = t.timestamp;
       junction.center = t.geometry.centre;
+      junction.axes = {t.geometry.red_direction, t.geometry.blue_direction};
       junctions->push_back(junction);
       entry["junction"] = junction.name;
       entry["center"] = Vector(t.geometry.centre);

@@ -28,6 +28,19 @@ double ReadFiniteDouble(const std::filesystem::path& path, const YAML::Node& nod
   return value;
 }
 
+// A list [x, y, z] of finite numbers at `node` (named `key` in messages).
+Eigen::Vector3d ReadVector(const std::filesystem::path& path, const YAML::Node& node,
+                           const std::string& key) {
+  if (!node.IsSequence() || node.size() != 3) {
+    throw InputError(Where(path, node, key) + " must be a list [x, y, z]");
+  }
+  Eigen::Vector3d vector;
+  for (int i = 0; i < 3; ++i) {
+    vector[i] = ReadFiniteDouble(path, node[i], key + "[" + std::to_string(i) + "]");
+  }
+  return vector;
+}
+
 Eigen::Vector3d ReadCenter(const std::filesystem::path& path, const YAML::Node& entry,
                            const std::string& key) {
   // A missing key yields an invalid node that cannot be reassigned, so choose the key first.
@@ -35,14 +48,22 @@ Eigen::Vector3d ReadCenter(const std::filesystem::path& path, const YAML::Node& 
   const std::string center_key = key + (has_center_m ? ".center_m" : ".center");
   const YAML::Node node = entry[has_center_m ? "center_m" : "center"];
   if (!node) throw InputError(Where(path, entry, key) + ": missing key `center`");
-  if (!node.IsSequence() || node.size() != 3) {
-    throw InputError(Where(path, node, center_key) + " must be a list [x, y, z]");
+  return ReadVector(path, node, center_key);
+}
+
+std::vector<Eigen::Vector3d> ReadAxes(const std::filesystem::path& path, const YAML::Node& entry,
+                                      const std::string& key) {
+  std::vector<Eigen::Vector3d> axes;
+  const YAML::Node node = entry["axes"];
+  if (!node) return axes;
+  if (!node.IsSequence()) throw InputError(Where(path, node, key + ".axes") + " must be a list");
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string axis_key = key + ".axes[" + std::to_string(i) + "]";
+    const Eigen::Vector3d axis = ReadVector(path, node[i], axis_key);
+    if (!(axis.norm() > 0.0)) throw InputError(Where(path, node[i], axis_key) + " is zero");
+    axes.push_back(axis.normalized());
   }
-  Eigen::Vector3d center;
-  for (int i = 0; i < 3; ++i) {
-    center[i] = ReadFiniteDouble(path, node[i], center_key + "[" + std::to_string(i) + "]");
-  }
-  return center;
+  return axes;
 }
 
 std::vector<Junction> ReadJunctions(const std::filesystem::path& path, bool with_timestamps) {
@@ -84,6 +105,7 @@ std::vector<Junction> ReadJunctions(const std::filesystem::path& path, bool with
       junction.timestamp = ReadFiniteDouble(path, timestamp, key + ".timestamp");
     }
     junction.center = ReadCenter(path, entry, key);
+    if (with_timestamps) junction.axes = ReadAxes(path, entry, key);
     junctions.push_back(junction);
   }
   return junctions;
@@ -113,6 +135,13 @@ void WriteEstimatedJunctions(const std::filesystem::path& junctions_yaml,
     }
     out << YAML::Key << "center" << YAML::Value << YAML::Flow << YAML::BeginSeq
         << junction.center.x() << junction.center.y() << junction.center.z() << YAML::EndSeq;
+    if (!junction.axes.empty()) {
+      out << YAML::Key << "axes" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const Eigen::Vector3d& axis : junction.axes) {
+        out << YAML::BeginSeq << axis.x() << axis.y() << axis.z() << YAML::EndSeq;
+      }
+      out << YAML::EndSeq;
+    }
     out << YAML::EndMap;
   }
   out << YAML::EndSeq << YAML::EndMap;

@@ -44,6 +44,7 @@ TEST(Junctions, WriteReadRoundTripIsExact) {
   std::vector<Junction> junctions(2);
   junctions[0] = {"J0", 12.345678901, Eigen::Vector3d(0.1, 1.0 / 3.0, -2e-9)};
   junctions[1] = {"junction: 1", 20.0, Eigen::Vector3d(4, 5, 6)};  // Needs YAML quoting.
+  junctions[1].axes = {Eigen::Vector3d(0.6, 0.0, 0.8), Eigen::Vector3d(0, -1, 0)};
   WriteEstimatedJunctions(path, junctions);
   const auto read = ReadEstimatedJunctions(path);
   ASSERT_EQ(read.size(), 2u);
@@ -51,6 +52,10 @@ TEST(Junctions, WriteReadRoundTripIsExact) {
     EXPECT_EQ(read[i].name, junctions[i].name);
     EXPECT_EQ(read[i].timestamp, junctions[i].timestamp);
     EXPECT_EQ(read[i].center, junctions[i].center);
+    ASSERT_EQ(read[i].axes.size(), junctions[i].axes.size());
+    for (std::size_t a = 0; a < read[i].axes.size(); ++a) {
+      EXPECT_LT((read[i].axes[a] - junctions[i].axes[a]).norm(), 1e-15);
+    }
   }
   WriteEstimatedJunctions(path, {});
   EXPECT_TRUE(ReadEstimatedJunctions(path).empty());
@@ -66,6 +71,12 @@ TEST(Junctions, ErrorsNameFileAndKey) {
   EXPECT_NE(message.find("junctions.yaml:3"), std::string::npos) << message;
   EXPECT_NE(message.find("junctions[1]"), std::string::npos) << message;
   EXPECT_NE(message.find("timestamp"), std::string::npos) << message;
+
+  WriteTextFileAtomically(path,
+                          "junctions:\n  - {name: A, timestamp: 1, center: [0, 0, 0], "
+                          "axes: [[1, 0, 0], [0, 0, 0]]}\n");
+  message = InputErrorMessage([&] { ReadEstimatedJunctions(path); });
+  EXPECT_NE(message.find("junctions[0].axes[1]"), std::string::npos) << message;
 
   WriteTextFileAtomically(path, "junctions:\n  - {name: A, timestamp: 1, center: [0, 0]}\n");
   message = InputErrorMessage([&] { ReadEstimatedJunctions(path); });
