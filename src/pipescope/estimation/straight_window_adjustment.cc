@@ -72,12 +72,17 @@ void MoveWorldOrigin(const Eigen::Vector3d& origin, StraightWindow* window) {
 
 }  // namespace
 
-std::vector<int> InlierCounts(const StraightWindow& window) {
-  std::vector<int> count(window.points.size(), 0);
-  for (const WindowObservation& observation : window.observations) {
+std::vector<int> InlierCounts(const std::vector<WindowObservation>& observations,
+                              std::size_t num_points) {
+  std::vector<int> count(num_points, 0);
+  for (const WindowObservation& observation : observations) {
     if (observation.inlier) ++count[observation.point];
   }
   return count;
+}
+
+std::vector<int> InlierCounts(const StraightWindow& window) {
+  return InlierCounts(window.observations, window.points.size());
 }
 
 WindowPose WindowPose::FromIsometry(const Eigen::Isometry3d& cam_from_world) {

@@ -100,5 +100,8 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
 // The inlier observations of each of the window's points: the adjustment estimates the points
 // with two or more; the others keep their start.
 std::vector<int> InlierCounts(const StraightWindow& window);
+// The same for any observations of `num_points` points (the T-intersection adjustment's too).
+std::vector<int> InlierCounts(const std::vector<WindowObservation>& observations,
+                              std::size_t num_points);
 
 }  // namespace pipescope

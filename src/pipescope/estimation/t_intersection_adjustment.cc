@@ -82,11 +82,7 @@ int RemoveOutliers(const Camera& camera, const TIntersectionOptions& options,
 }
 
 std::vector<int> InlierCounts(const TIntersectionProblem& problem) {
-  std::vector<int> count(problem.points.size(), 0);
-  for (const WindowObservation& observation : problem.observations) {
-    if (observation.inlier) ++count[observation.point];
-  }
-  return count;
+  return InlierCounts(problem.observations, problem.points.size());
 }
 
 }  // namespace

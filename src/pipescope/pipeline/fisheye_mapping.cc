@@ -219,8 +219,16 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   }
   result.windows = odometry.windows();
   result.points = odometry.Points();
+  // 001 §III-D: the T's adjustment uses the straight windows' radius, tau, robust cost and
+  // outlier removal, so a --config that changes them changes both.
   TIntersectionPassOptions t_options = options.t_intersections;
-  t_options.adjustment.radius_m = options.odometry.window.radius_m;  // the dataset's
+  const StraightWindowOptions& window = options.odometry.window;
+  t_options.adjustment.radius_m = window.radius_m;
+  t_options.adjustment.tau = window.tau;
+  t_options.adjustment.huber_px = window.huber_px;
+  t_options.adjustment.stages = window.stages;
+  t_options.adjustment.mad_factor = window.mad_factor;
+  t_options.adjustment.min_mad_px = window.min_mad_px;
   AdjustTIntersections(camera, odometry, t_options, &result);
   {
     const StageClock<ProcessCpuTimer> clock;

@@ -27,7 +27,7 @@ struct FisheyeMappingOptions {
   PipeViewClassificationOptions classification;
   int min_cluster_size = 10;         // key frames; temporal filtering of the classes (001 Fig. 3d)
   KeyframeOdometryOptions odometry;  // odometry.window.radius_m comes from the dataset
-  TIntersectionPassOptions t_intersections;  // the radius is odometry.window.radius_m
+  TIntersectionPassOptions t_intersections;  // radius, tau, Huber, MAD: odometry.window's
   DenseMapPassOptions dense_map;             // 001 §IV-B, after the poses are final
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;

@@ -17,20 +17,24 @@ Eigen::Vector3d Centre(const Eigen::Isometry3d& world_from_cam) {
   return world_from_cam.translation();
 }
 
-// A track's point from its observations on the given poses (multi-view midpoint on the
-// bearings), when its extreme rays part by at least `min_angle_rad`.
+// A track's point from its observations (multi-view midpoint on the bearings), when its rays
+// part by at least `min_angle_rad` from its first. `world_from_cam[k]` is key frame
+// `first_keyframe + k`'s pose.
 bool Triangulate(const std::vector<KeyframeOdometry::Observation>& observations,
-                 const std::vector<Eigen::Isometry3d>& world_from_cam, double min_angle_rad,
-                 Eigen::Vector3d* point) {
+                 const std::vector<Eigen::Isometry3d>& world_from_cam, int first_keyframe,
+                 double min_angle_rad, Eigen::Vector3d* point) {
+  const auto pose_of = [&](const KeyframeOdometry::Observation& observation) -> const auto& {
+    return world_from_cam[observation.keyframe - first_keyframe];
+  };
+  const Eigen::Vector3d first_ray =
+      pose_of(observations.front()).linear() * observations.front().bearing;
   std::vector<BearingObservation> rays;
   double widest = 0.0;
   for (const KeyframeOdometry::Observation& observation : observations) {
-    const Eigen::Isometry3d& pose = world_from_cam[observation.keyframe];
+    const Eigen::Isometry3d& pose = pose_of(observation);
     rays.push_back({pose.inverse(), observation.bearing});
-    const Eigen::Vector3d first =
-        world_from_cam[observations.front().keyframe].linear() * observations.front().bearing;
-    widest = std::max(
-        widest, std::acos(std::clamp(first.dot(pose.linear() * observation.bearing), -1.0, 1.0)));
+    widest = std::max(widest, std::acos(std::clamp(
+                                  first_ray.dot(pose.linear() * observation.bearing), -1.0, 1.0)));
   }
   return widest >= min_angle_rad && TriangulateMidpoint(rays, point);
 }
@@ -163,19 +167,17 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
   for (const Eigen::Isometry3d& pose : start) {
     problem.poses.push_back(WindowPose::FromIsometry(pose.inverse()));
   }
-  std::vector<Eigen::Isometry3d> world_from_cam(poses.size());
-  std::copy(start.begin(), start.end(), world_from_cam.begin() + red);
   for (const auto& track : tracks) {
     Eigen::Vector3d point;
-    if (!Triangulate(track, world_from_cam, options_.min_triangulation_angle_deg * kDeg, &point)) {
+    if (!Triangulate(track, start, red, options_.min_triangulation_angle_deg * kDeg, &point)) {
       continue;
     }
     const int index = static_cast<int>(problem.points.size());
     problem.points.push_back(point);
     for (const KeyframeOdometry::Observation& observation : track) {
       const bool inlier =
-          ReprojectionErrorPx(camera_, world_from_cam[observation.keyframe].inverse(), point,
-                              observation.pixel) < options_.max_start_error_px;
+          ReprojectionErrorPx(camera_, problem.poses[observation.keyframe - red].ToIsometry(),
+                              point, observation.pixel) < options_.max_start_error_px;
       problem.observations.push_back(
           {observation.keyframe - red, index, observation.pixel, inlier});
     }
@@ -309,10 +311,7 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   record.blue_shift_m = (Centre(blue_after) - Centre(blue_before)).norm();
   record.blue_turn_deg = Eigen::AngleAxisd(record.correction.linear()).angle() / kDeg;
   place(problem.model);
-  std::vector<int> inliers(problem.points.size(), 0);
-  for (const WindowObservation& observation : problem.observations) {
-    if (observation.inlier) ++inliers[observation.point];
-  }
+  const std::vector<int> inliers = InlierCounts(problem.observations, problem.points.size());
   for (std::size_t p = 0; p < problem.points.size(); ++p) {
     if (inliers[p] >= 2) record.points.push_back(problem.points[p]);
   }
