@@ -321,7 +321,7 @@ Eigen::Vector3d PositionAt(const Trajectory& trajectory, double timestamp) {
 // start arm, the T, about 1 m of the T1-T2 side; the speed varies by 5 %). The T is adjusted
 // with the two-cylinder model; its centre lies as far from the last camera before the T and the
 // first after it as the true T1 does (both frame-independent, so no alignment enters), to 2.5 cm
-// (measured: 1.9 cm before the T, 0.4 mm after it) and closer than where the end cylinders put
+// (measured: 1.9 cm before the T, 3.8 mm after it) and closer than where the end cylinders put
 // it on the chained poses (3.5 cm short before the T).
 TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   const std::filesystem::path dir = MakeTestDirectory("map_t");

@@ -15,10 +15,11 @@ struct DenseMapPassOptions {
   // 2 mm apart, the colatitude band 50-90 deg, and the views tapered towards the band's edges:
   // with 001's plain mean, each cell's set of views changes a view at a time along the pipe
   // and the views' different lighting shows as bands across the map (docs/fisheye_mapping.md).
-  DenseAppearanceOptions appearance = {.spacing_m = 0.002,
-                                       .min_colatitude_deg = 50.0,
-                                       .max_colatitude_deg = 90.0,
-                                       .colatitude_taper = true};
+  DenseAppearanceOptions appearance = [] {
+    DenseAppearanceOptions tapered;
+    tapered.colatitude_taper = true;
+    return tapered;
+  }();
   // Each straight section is mapped in pieces of about this much travel, each on a cylinder
   // fitted to its own points: 001 fits cylinders locally, since a long run is not one straight
   // cylinder (pipes sag, joints are not aligned; 001 §IV-A).
