@@ -73,6 +73,18 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
                             {"first_frame", first.frame_index},
                             {"last_frame", last.frame_index},
                             {"distance_est_m", est_m}};
+    if (section.view_class == PipeViewClass::kStraight) {
+      // How many of the section's windows confirmed its length (pipeline/window_confirmation.h).
+      int windows = 0;
+      int rejected = 0;
+      for (const OdometryWindowRecord& window : result.windows) {
+        if (window.section != static_cast<int>(s)) continue;
+        ++windows;
+        rejected += window.rejection.empty() ? 0 : 1;
+      }
+      entry["windows"] = windows;
+      entry["windows_rejected"] = rejected;
+    }
     if (ground_truth) {
       const StampedPose* a = NearestPose(*ground_truth, first.timestamp);
       const StampedPose* b = NearestPose(*ground_truth, last.timestamp);

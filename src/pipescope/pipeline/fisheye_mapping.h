@@ -34,6 +34,8 @@ struct FisheyeMappingOptions {
   // A run is unreliable when more than this share of its straight windows was rejected
   // (pipeline/window_confirmation.h).
   double max_rejected_window_share = 0.5;
+  // ... or more than this share of one straight section's windows (one with 4 or more).
+  double max_rejected_section_window_share = 0.25;
   // The odometry runs on a second thread while the frames are tracked (false: it starts after
   // the last frame, as before; the same key frames in the same order, so the same poses).
   bool overlap_odometry = true;

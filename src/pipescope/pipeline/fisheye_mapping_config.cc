@@ -149,6 +149,10 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
       Number<O>(
           "max_rejected_window_share", [](O& o) -> double& { return o.max_rejected_window_share; },
           0.0, 1.0, "", "a run is unreliable when more of its straight windows were rejected"),
+      Number<O>(
+          "max_rejected_section_window_share",
+          [](O& o) -> double& { return o.max_rejected_section_window_share; }, 0.0, 1.0, "",
+          "... or more of one straight section's windows (a section with 4 or more)"),
       Flag<O>(
           "overlap_odometry", [](O& o) -> bool& { return o.overlap_odometry; },
           "run the odometry on a second thread while tracking (same results)"),
@@ -159,6 +163,9 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
       Number<O>(
           "t_end_fit_length_m", [](O& o) -> double& { return o.t_intersections.end_fit_length_m; },
           0.05, 100.0, "m", "T model: the straight cylinders fit this much travel on each side"),
+      Number<O>(
+          "t_red_lead_m", [](O& o) -> double& { return o.t_intersections.red_lead_m; }, 0.0, 100.0,
+          "m", "T model: the pose held is this much travel before the T (0: the last before it)"),
       Number<O>(
           "t_min_turn_deg", [](O& o) -> double& { return o.t_intersections.min_turn_deg; }, 5.0,
           89.0, "deg", "T model: axes closer to parallel are a pass straight through"),

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +19,13 @@ struct TIntersectionPassOptions {
   // 001 §III-D fits the straight cylinders to the scene points of the first and last metre of
   // each straight section.
   double end_fit_length_m = 1.0;
+  // P_r, the pose the adjustment holds, is the red section's key frame this much travel before
+  // its last one, and the key frames after it join the adjustment: the straight windows leave
+  // the last half metre before a T turned (by 4-12 degrees against the truth on the simulated
+  // network, where key frames 0.5-1.5 m earlier are within 1-3 degrees), because the points
+  // they see in the T are held to the straight wall; the T's model places those points on the
+  // nearer of its two walls. 0: P_r is the section's last key frame, as in 001.
+  double red_lead_m = 0.5;
   // A straight section with less travel than this on either side leaves the T unmodelled.
   double min_end_length_m = 0.3;
   // Axes closer than this to parallel are a pass straight through, not a turn: no model.
@@ -46,7 +54,7 @@ struct TIntersectionPassOptions {
 // One T-intersection of the route as the pass found and adjusted it.
 struct TIntersectionRecord {
   int section = 0;        // the T-intersection's section
-  int red_keyframe = 0;   // P_r: the straight section's last key frame before the T
+  int red_keyframe = 0;   // P_r: the red section's key frame red_lead_m before the T
   int blue_keyframe = 0;  // P_b: the next straight section's first key frame
   // Why the T kept its chained poses (empty: adjusted): "short section", "end cylinder",
   // "no turn", "axes miss", "too few points", "not converged", "image rms", "cylinder rms",
@@ -67,6 +75,7 @@ struct TIntersectionRecord {
   int triangulated_points = 0;  // the T's points at the start of the adjustment
   double start_scale = 1.0;     // the start the solution came from
   std::vector<std::pair<double, double>> start_scores;  // (scale, score) of every start
+
   // The rigid move applied to P_b and every key frame after it (identity when not adjusted),
   // and the T's adjusted points, for the map's point cloud.
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
@@ -101,12 +110,14 @@ class TIntersectionPass {
   // The key frames' range of one T: P_r, P_b, and the end stretches fitted (001 Fig. 4a).
   struct TSpan {
     int section = 0;
-    int red = 0;
+    int red = 0;       // P_r, held
+    int red_last = 0;  // the red section's last key frame (P_r when red_lead_m is 0)
     int blue = 0;
     int red_start = 0;
     int blue_end = 0;
   };
-  // One adjustment started from the chained T scaled by `scale` about P_r.
+  // One adjustment started from the chained T scaled by `scale` about the red section's last
+  // key frame, on `threads` Ceres threads.
   struct StartedAdjustment {
     double scale = 1.0;
     TIntersectionProblem problem;
@@ -116,9 +127,23 @@ class TIntersectionPass {
   StartedAdjustment AdjustFromScale(
       const std::vector<std::vector<KeyframeOdometry::Observation>>& tracks, const TSpan& span,
       const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
-      double scale) const;
+      double scale, int threads = 1) const;
+  // The end cylinders of `span` and the model's start from them, into `problem`; false, with
+  // the record's rejection, when the T cannot be modelled. Fills the record's end fits, axis
+  // gap and initial model.
+  bool StartModel(const TSpan& span, const std::vector<SparsePoint>& points,
+                  const std::vector<Eigen::Isometry3d>& poses, TIntersectionProblem* problem,
+                  TIntersectionRecord* record) const;
+  // The start scale whose adjustment of `span` explains the T's images best (every start's
+  // score into the record); nullopt when none triangulated enough points.
+  std::optional<StartedAdjustment> BestStart(const KeyframeOdometry& odometry, const TSpan& span,
+                                             const std::vector<Eigen::Isometry3d>& poses,
+                                             const TIntersectionProblem& cylinders,
+                                             TIntersectionRecord* record) const;
+  // `span`: the T as adjusted, P_r red_lead_m before it; `choice`: the same T with P_r its red
+  // section's last key frame, on which the start is chosen.
   TIntersectionRecord AdjustOne(const KeyframeOdometry& odometry, const TSpan& span,
-                                const std::vector<double>& timestamps,
+                                const TSpan& choice, const std::vector<double>& timestamps,
                                 const std::vector<SparsePoint>& points,
                                 std::vector<Eigen::Isometry3d>* world_from_cam) const;
   // Fits the straight cylinder (eq. 4) relative to key frame `origin` to the map's points of

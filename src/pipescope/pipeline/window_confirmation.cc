@@ -4,8 +4,64 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <string>
+#include <utility>
 
 namespace pipescope {
+
+namespace {
+
+// "image rms: 2, path length: 1": why the windows were rejected, by count.
+std::string RejectionCounts(const std::map<std::string, int>& why) {
+  std::ostringstream counts;
+  const char* separator = "";
+  for (const auto& [rejection, count] : why) {
+    counts << separator << rejection << ": " << count;
+    separator = ", ";
+  }
+  return counts.str();
+}
+
+struct SectionWindows {
+  int windows = 0;
+  int rejected = 0;
+  int first_keyframe = 0;
+  int last_keyframe = 0;
+  std::map<std::string, int> why;
+};
+
+// One reason per straight section whose own windows were mostly rejected.
+std::vector<std::string> SectionReasons(const std::vector<OdometryWindowRecord>& windows,
+                                        const WindowConfirmationOptions& options) {
+  std::map<int, SectionWindows> sections;
+  for (const OdometryWindowRecord& window : windows) {
+    if (!window.straight) continue;
+    auto [it, added] = sections.try_emplace(window.section);
+    SectionWindows& section = it->second;
+    if (added) section.first_keyframe = window.first_keyframe;
+    section.first_keyframe = std::min(section.first_keyframe, window.first_keyframe);
+    section.last_keyframe = std::max(section.last_keyframe, window.last_keyframe);
+    ++section.windows;
+    if (window.rejection.empty()) continue;
+    ++section.rejected;
+    ++section.why[window.rejection];
+  }
+  std::vector<std::string> reasons;
+  for (const auto& [index, section] : sections) {
+    if (section.windows < options.min_section_windows) continue;
+    if (section.rejected <= options.max_rejected_section_share * section.windows) continue;
+    std::ostringstream reason;
+    reason << "straight section " << index << " (key frames " << section.first_keyframe << "-"
+           << section.last_keyframe << "): " << section.rejected << " of " << section.windows
+           << " window adjustments were rejected (" << RejectionCounts(section.why) << "; limit "
+           << std::lround(100 * options.max_rejected_section_share)
+           << " % a section): its length rests on single steps";
+    reasons.push_back(reason.str());
+  }
+  return reasons;
+}
+
+}  // namespace
 
 std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWindowRecord>& windows,
                                                    int longest_straight_section,
@@ -31,16 +87,12 @@ std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWin
   }
   if (rejected > options.max_rejected_share * straight) {
     std::ostringstream reason;
-    reason << rejected << " of " << straight << " window adjustments were rejected (";
-    const char* separator = "";
-    for (const auto& [rejection, count] : why) {
-      reason << separator << rejection << ": " << count;
-      separator = ", ";
-    }
-    reason << "; limit " << std::lround(100 * options.max_rejected_share)
+    reason << rejected << " of " << straight << " window adjustments were rejected ("
+           << RejectionCounts(why) << "; limit " << std::lround(100 * options.max_rejected_share)
            << " %): the scale rests on single steps";
     reasons.push_back(reason.str());
   }
+  for (std::string& reason : SectionReasons(windows, options)) reasons.push_back(std::move(reason));
   return reasons;
 }
 
@@ -54,6 +106,7 @@ std::vector<std::string> WindowConfirmationReasons(const FisheyeMappingResult& r
   }
   WindowConfirmationOptions confirmation;
   confirmation.max_rejected_share = options.max_rejected_window_share;
+  confirmation.max_rejected_section_share = options.max_rejected_section_window_share;
   confirmation.window_interval = options.odometry.window_interval;
   return WindowConfirmationReasons(result.windows, longest_straight_section, confirmation);
 }
