@@ -4,6 +4,8 @@
 // run through a T-intersection places the junction where the truth has it.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -36,6 +38,21 @@ StampedPose PositionPose(const Trajectory& trajectory, double timestamp) {
   }
   ADD_FAILURE() << "no pose at " << timestamp;
   return {};
+}
+
+// A dense-map piece's cylinder as run.json `dense_map.pieces[]` describes it.
+DenseMapCylinder PieceCylinder(const nlohmann::json& report, const nlohmann::json& piece) {
+  const auto vector = [](const nlohmann::json& v) {
+    return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+  };
+  DenseMapCylinder cylinder;
+  cylinder.axis_point = vector(piece["axis_point"]);
+  cylinder.axis_direction = vector(piece["axis_direction"]);
+  cylinder.radius_m = report["options"]["radius_m"].get<double>();
+  cylinder.begin_m = piece["begin_m"].get<double>();
+  cylinder.end_m = piece["end_m"].get<double>();
+  cylinder.reference_direction = vector(piece["reference_direction"]);
+  return cylinder;
 }
 
 class MapCli : public testing::Test {
@@ -192,16 +209,7 @@ TEST(MapCliDense, DenseMapFollowsTheWallsAlbedo) {
   const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
   ASSERT_EQ(report["dense_map"]["pieces"].size(), 1u) << report["dense_map"].dump();
   const nlohmann::json& piece = report["dense_map"]["pieces"][0];
-  const auto vector = [](const nlohmann::json& v) {
-    return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
-  };
-  DenseMapCylinder cylinder;
-  cylinder.axis_point = vector(piece["axis_point"]);
-  cylinder.axis_direction = vector(piece["axis_direction"]);
-  cylinder.radius_m = report["options"]["radius_m"].get<double>();
-  cylinder.begin_m = piece["begin_m"].get<double>();
-  cylinder.end_m = piece["end_m"].get<double>();
-  cylinder.reference_direction = vector(piece["reference_direction"]);
+  const DenseMapCylinder cylinder = PieceCylinder(report, piece);
   const double spacing = report["dense_map"]["spacing_m"].get<double>();
   const DenseMapGrid grid(cylinder, spacing);
   cv::Mat map = cv::imread(run + "/dense_section_0.png", cv::IMREAD_GRAYSCALE);
@@ -363,6 +371,60 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
               std::abs(std::abs(t["initial"][length].get<double>()) - expected) + 0.002)
         << side;
   }
+
+  // The dense map of the T (001 §IV-B): its red and blue pieces, each cell seen put into the
+  // scene by the rigid motion that best aligns the run's key frames from P_r to P_b with the
+  // truth's (Umeyama), and compared with where the ray from the true centre of T1 through it
+  // meets the simulated wall.
+  const int t_section = t["section"].get<int>();
+  std::vector<nlohmann::json> t_pieces;
+  for (const nlohmann::json& piece : report["dense_map"]["pieces"]) {
+    if (piece["section"].get<int>() == t_section) t_pieces.push_back(piece);
+  }
+  ASSERT_EQ(t_pieces.size(), 2u) << report["dense_map"].dump();
+  EXPECT_EQ(t_pieces[0]["part"], "t-red");
+  EXPECT_EQ(t_pieces[1]["part"], "t-blue");
+  const int red_keyframe = t["red_keyframe"].get<int>();
+  const int blue_keyframe = t["blue_keyframe"].get<int>();
+  Eigen::Matrix3Xd run_positions(3, blue_keyframe - red_keyframe + 1);
+  Eigen::Matrix3Xd true_positions(3, blue_keyframe - red_keyframe + 1);
+  for (int k = red_keyframe; k <= blue_keyframe; ++k) {
+    run_positions.col(k - red_keyframe) = keyframes.at(k).position;
+    true_positions.col(k - red_keyframe) = PositionAt(truth, keyframes.at(k).timestamp);
+  }
+  const Eigen::Isometry3d scene_from_run(
+      Eigen::umeyama(run_positions, true_positions, /*with_scaling=*/false));
+  SimulationConfig config = PresetConfig("fiberglass-network");
+  SetConfigValue(&config, "frames=230");
+  const Simulation simulation(config);
+  const cv::Mat mosaic =
+      cv::imread((dir / "run" / ("dense_section_" + std::to_string(t_section) + ".png")).string(),
+                 cv::IMREAD_GRAYSCALE);
+  std::vector<double> errors;
+  int row_offset = 0;
+  for (const nlohmann::json& piece : t_pieces) {
+    const DenseMapGrid grid(PieceCylinder(report, piece),
+                            report["dense_map"]["spacing_m"].get<double>());
+    ASSERT_LE(row_offset + grid.rows(), mosaic.rows);
+    for (int row = 0; row < grid.rows(); row += 2) {
+      for (int col = 0; col < grid.cols(); col += 2) {
+        if (mosaic.at<uchar>(row_offset + row, col) == 0) continue;  // unseen or open
+        const Eigen::Vector3d point = scene_from_run * grid.CellPoint(row, col);
+        const Ray ray{true_t1, (point - true_t1).normalized()};
+        const std::optional<WallHit> hit = simulation.layout().scene.Intersect(ray);
+        if (hit) errors.push_back(std::abs((point - true_t1).norm() - hit->distance));
+      }
+    }
+    row_offset += grid.rows();
+  }
+  ASSERT_GT(errors.size(), 5000u);
+  std::sort(errors.begin(), errors.end());
+  const double median = errors[errors.size() / 2];
+  const double p90 = errors[errors.size() * 9 / 10];
+  RecordProperty("t_wall_median_mm", std::to_string(1000 * median));
+  RecordProperty("t_wall_p90_mm", std::to_string(1000 * p90));
+  EXPECT_LT(median, 0.01);
+  EXPECT_LT(p90, 0.025);
   std::filesystem::remove_all(dir);
 }
 

@@ -161,8 +161,9 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
   return entries;
 }
 
-// points_dense.ply (all pieces), one mosaic per straight section (its pieces' grids one after
-// the other along the pipe, 8 bit, unseen cells black) and run.json `dense_map`.
+// points_dense.ply (all pieces), one mosaic per section (its pieces' grids one after the other
+// along the pipe, a T's red piece then its blue one; 8 bit, unseen cells black) and run.json
+// `dense_map`.
 void WriteDenseMap(const FisheyeMappingResult& result, const DenseMapPassOptions& options,
                    RunDirectory* run) {
   if (!options.enabled) return;
@@ -178,7 +179,11 @@ void WriteDenseMap(const FisheyeMappingResult& result, const DenseMapPassOptions
     const Eigen::Vector3d& p = piece.cylinder.axis_point;
     const Eigen::Vector3d& d = piece.cylinder.axis_direction;
     const Eigen::Vector3d r = piece.cylinder.reference_direction.value_or(Eigen::Vector3d::Zero());
+    const char* part = piece.part == DenseMapPart::kStraight ? "straight"
+                       : piece.part == DenseMapPart::kTRed   ? "t-red"
+                                                             : "t-blue";
     pieces.push_back({{"section", piece.section},
+                      {"part", part},
                       {"first_keyframe", piece.first_keyframe},
                       {"last_keyframe", piece.last_keyframe},
                       {"axis_point", {p.x(), p.y(), p.z()}},

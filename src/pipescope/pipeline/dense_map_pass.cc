@@ -1,6 +1,8 @@
 #include "pipescope/pipeline/dense_map_pass.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -48,6 +50,60 @@ std::vector<DenseMapPiece> CutPieces(const MappedRoute& route, double piece_leng
   return pieces;
 }
 
+// The two pieces of each adjusted T, on its model's cylinders through I (phi = 0 towards the
+// upright of the camera at the piece's far end from I).
+std::vector<DenseMapPiece> TPieces(const MappedRoute& route, double radius_m) {
+  std::vector<DenseMapPiece> pieces;
+  const int num_keyframes = static_cast<int>(route.world_from_cam.size());
+  for (const MappedT& t : route.t_intersections) {
+    int first = num_keyframes, last = -1;
+    for (int k = 0; k < num_keyframes; ++k) {
+      if (route.section_of[k] != t.section) continue;
+      first = std::min(first, k);
+      last = std::max(last, k);
+    }
+    if (last < 0 || first == 0 || last + 1 >= num_keyframes) continue;
+    const int red = first - 1, blue = last + 1;  // the straight sections' key frames at the T
+    for (const DenseMapPart part : {DenseMapPart::kTRed, DenseMapPart::kTBlue}) {
+      const bool is_red = part == DenseMapPart::kTRed;
+      const int outer = is_red ? red : blue;
+      DenseMapPiece piece;
+      piece.section = t.section;
+      piece.part = part;
+      piece.first_keyframe = red;
+      piece.last_keyframe = blue;
+      // Each axis in the direction of travel: towards I on the red side, away from it on the
+      // blue.
+      piece.cylinder.axis_point = t.centre;
+      piece.cylinder.axis_direction = is_red ? -t.red_direction : t.blue_direction;
+      piece.cylinder.radius_m = radius_m;
+      const double outer_m =
+          (route.world_from_cam[outer].translation() - t.centre).dot(piece.cylinder.axis_direction);
+      piece.cylinder.begin_m = is_red ? outer_m : 0.0;
+      piece.cylinder.end_m = is_red ? 0.0 : outer_m;
+      piece.cylinder.reference_direction = -route.world_from_cam[outer].linear().col(1);
+      pieces.push_back(piece);
+    }
+  }
+  return pieces;
+}
+
+// Takes out of a T piece's map the cells inside the T's other cylinder: there the wall is open.
+void RemoveCellsInside(const DenseMapCylinder& other, DenseAppearanceMap* map) {
+  const Eigen::Vector3d direction = other.axis_direction.normalized();
+  std::vector<DenseMapPoint> kept;
+  for (const DenseMapPoint& point : map->points) {
+    const Eigen::Vector3d v = point.position - other.axis_point;
+    if ((v - v.dot(direction) * direction).norm() >= other.radius_m) {
+      kept.push_back(point);
+      continue;
+    }
+    map->mean_grey.at<float>(point.row, point.col) = std::numeric_limits<float>::quiet_NaN();
+    map->count.at<int>(point.row, point.col) = 0;
+  }
+  map->points = std::move(kept);
+}
+
 }  // namespace
 
 std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const Camera& camera,
@@ -63,12 +119,16 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
   const double behind_m = radius_m / std::tan(options.appearance.min_colatitude_deg * M_PI / 180);
   std::map<int, std::vector<int>> pieces_of_keyframe;
   std::map<int, Eigen::Vector3d> section_up;
-  for (DenseMapPiece& piece : CutPieces(route, options.piece_length_m)) {
+  std::vector<DenseMapPiece> planned = CutPieces(route, options.piece_length_m);
+  for (DenseMapPiece& piece : planned) {
     const Eigen::Isometry3d& origin = route.world_from_cam[piece.first_keyframe];
     const Eigen::Vector3d far = route.world_from_cam[piece.last_keyframe].translation();
     const std::optional<SectionCylinderFit> fit =
         FitSectionCylinder(route.points, piece.section, origin, far, radius_m, radius_m);
-    if (!fit || fit->median_distance_m > 0.05 * radius_m) continue;
+    if (!fit || fit->median_distance_m > 0.05 * radius_m) {
+      piece.cylinder.radius_m = 0.0;  // not mapped
+      continue;
+    }
     const PipeAxis axis = SectionCylinderAxis(*fit, origin, far);
     if (!section_up.count(piece.section)) {
       section_up[piece.section] = -origin.linear().col(1);
@@ -80,15 +140,21 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
     piece.cylinder.begin_m = (origin.translation() - axis.point).dot(axis.direction);
     piece.cylinder.end_m = (far - axis.point).dot(axis.direction);
     piece.cylinder.reference_direction = section_up[piece.section];
+  }
+  for (const DenseMapPiece& piece : TPieces(route, radius_m)) planned.push_back(piece);
+  for (DenseMapPiece& piece : planned) {
+    if (piece.cylinder.radius_m <= 0.0) continue;
     if (piece.cylinder.end_m - piece.cylinder.begin_m < options.appearance.spacing_m) continue;
+    const Eigen::Vector3d& axis_point = piece.cylinder.axis_point;
+    const Eigen::Vector3d& axis_direction = piece.cylinder.axis_direction;
     const int index = static_cast<int>(pieces.size());
     for (int k = 0; k < static_cast<int>(route.world_from_cam.size()); ++k) {
       // Cameras inside this stretch of pipe only: one in the pipe across a T projects onto
       // the axis near the T too.
-      const Eigen::Vector3d v = route.world_from_cam[k].translation() - axis.point;
-      const double s = v.dot(axis.direction);
+      const Eigen::Vector3d v = route.world_from_cam[k].translation() - axis_point;
+      const double s = v.dot(axis_direction);
       if (s >= piece.cylinder.begin_m - behind_m && s <= piece.cylinder.end_m &&
-          (v - s * axis.direction).norm() < radius_m) {
+          (v - s * axis_direction).norm() < radius_m) {
         pieces_of_keyframe[k].push_back(index);
       }
     }
@@ -134,6 +200,15 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
   for (std::size_t p = 0; p < pieces.size(); ++p) {
     pieces[p].keyframes_used = accumulators[p]->num_key_frames();
     pieces[p].map = accumulators[p]->Result();
+  }
+  // A T's two pieces follow each other; each loses the cells inside the other's cylinder.
+  for (std::size_t p = 0; p + 1 < pieces.size(); ++p) {
+    if (pieces[p].part != DenseMapPart::kTRed || pieces[p + 1].part != DenseMapPart::kTBlue ||
+        pieces[p].section != pieces[p + 1].section) {
+      continue;
+    }
+    RemoveCellsInside(pieces[p + 1].cylinder, &pieces[p].map);
+    RemoveCellsInside(pieces[p].cylinder, &pieces[p + 1].map);
   }
   return pieces;
 }

@@ -242,6 +242,11 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
       route.section_straight.push_back(section.view_class == PipeViewClass::kStraight);
     }
     route.points = result.points;
+    for (const TIntersectionRecord& t : result.t_intersections) {
+      if (!t.rejection.empty()) continue;  // only an adjusted T joins its sections
+      route.t_intersections.push_back(
+          {t.section, t.geometry.centre, t.geometry.red_direction, t.geometry.blue_direction});
+    }
     result.dense_map =
         BuildDenseMap(manifest, camera, route, options.odometry.window.radius_m, options.dense_map);
     clock.AddTo(&result.stage_times, "dense_map");
