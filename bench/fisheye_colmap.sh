@@ -8,8 +8,9 @@
 # cam_from_world; TUM wants world_from_cam) timed like the dataset's frames, evaluated by
 # `pipescope evaluate --align sim3` since COLMAP has no metric scale. Results are recorded in
 # docs/fisheye_mapping.md.
-# Usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head]
-#   head = the first 340 frames, linked as in fisheye_mapping_accuracy.sh.
+# Usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head|tee]
+#   head = the first 340 frames, linked as in fisheye_mapping_accuracy.sh; tee = the network's
+#   first 300 frames (0.9 m of the start arm, T1 and 1.7 m of the T1-T2 side; issue 23).
 #   BUILD_DIR holds bench/fisheye_colmap_camera and, unless PIPESCOPE=FILE names another build's
 #   program, pipescope. Finished stages are kept and not run again (delete OUT_DIR/<name>-colmap
 #   or <name>-pipescope to redo them). Environment: MAX_ANGLE_DEG (85), OVERLAP (sequential
@@ -18,8 +19,8 @@
 #   stage), STAGE_TIMEOUT (seconds a stage may take, 3600), TAG (a suffix for COLMAP's directory,
 #   to keep runs with other options apart).
 set -euo pipefail
-BUILD_DIR=${1:?usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head]}
-OUT=${2:?usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head]}
+BUILD_DIR=${1:?usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head|tee]}
+OUT=${2:?usage: bench/fisheye_colmap.sh BUILD_DIR OUT_DIR [straight|head|tee]}
 WHICH=${3:-head}
 P=${PIPESCOPE:-$BUILD_DIR/pipescope}
 FIT=$BUILD_DIR/bench/fisheye_colmap_camera
@@ -29,8 +30,8 @@ MAX_FEATURES=${MAX_FEATURES:-4096}
 THREADS=${THREADS:-1}
 PEAK_THRESHOLD=${PEAK_THRESHOLD:-0.0066666666666666671}
 STAGE_TIMEOUT=${STAGE_TIMEOUT:-3600}
-case "$WHICH" in straight | head) ;; *)
-  echo "unknown subset '$WHICH' (expected straight or head)" >&2
+case "$WHICH" in straight | head | tee) ;; *)
+  echo "unknown subset '$WHICH' (expected straight, head or tee)" >&2
   exit 2
   ;;
 esac
@@ -49,8 +50,13 @@ fi
 
 mkdir -p "$OUT"
 source "$(dirname "$0")/fisheye_datasets.sh"
-simulate_straight "$P" "$OUT"
-D=$OUT/straight
+if [ "$WHICH" = tee ]; then
+  simulate_fisheye "$P" "$OUT" tee 300
+  D=$OUT/tee
+else
+  simulate_straight "$P" "$OUT"
+  D=$OUT/straight
+fi
 if [ "$WHICH" = head ]; then
   D=$OUT/straight-head
   [ -f "$D/groundtruth.tum" ] || link_straight_head "$OUT"
