@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "pipescope/camera/camera_io.h"
@@ -161,57 +162,78 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
   return entries;
 }
 
-// points_dense.ply (all pieces), one mosaic per section (its pieces' grids one after the other
-// along the pipe, a T's red piece then its blue one; 8 bit, unseen cells black) and run.json
-// `dense_map`.
-void WriteDenseMap(const FisheyeMappingResult& result, const DenseMapPassOptions& options,
-                   RunDirectory* run) {
-  if (!options.enabled) return;
-  std::vector<DenseMapPoint> points;
-  std::map<int, std::vector<cv::Mat>> section_grids;
-  nlohmann::json pieces = nlohmann::json::array();
-  for (const DenseMapPiece& piece : result.dense_map) {
-    points.insert(points.end(), piece.map.points.begin(), piece.map.points.end());
-    cv::Mat grey = piece.map.mean_grey.clone();
-    cv::patchNaNs(grey, 0.0);  // unseen cells black
-    grey.convertTo(grey, CV_8U);
-    section_grids[piece.section].push_back(grey);
-    const Eigen::Vector3d& p = piece.cylinder.axis_point;
-    const Eigen::Vector3d& d = piece.cylinder.axis_direction;
-    const Eigen::Vector3d r = piece.cylinder.reference_direction.value_or(Eigen::Vector3d::Zero());
-    const char* part = piece.part == DenseMapPart::kStraight ? "straight"
-                       : piece.part == DenseMapPart::kTRed   ? "t-red"
-                                                             : "t-blue";
-    pieces.push_back({{"section", piece.section},
-                      {"part", part},
-                      {"first_keyframe", piece.first_keyframe},
-                      {"last_keyframe", piece.last_keyframe},
-                      {"axis_point", {p.x(), p.y(), p.z()}},
-                      {"axis_direction", {d.x(), d.y(), d.z()}},
-                      {"reference_direction", {r.x(), r.y(), r.z()}},
-                      {"begin_m", piece.cylinder.begin_m},
-                      {"end_m", piece.cylinder.end_m},
-                      {"rows", piece.map.mean_grey.rows},
-                      {"cols", piece.map.mean_grey.cols},
-                      {"cells_seen", piece.map.points.size()},
-                      {"keyframes_used", piece.keyframes_used},
-                      {"fit_median_m", piece.fit_median_m}});
+// The dense map as BuildDenseMap finishes its pieces: points_dense.ply is written piece by
+// piece (a long route never holds all its points); each piece's grid, 8 bit with unseen cells
+// black, is kept for its section's mosaic (the pieces' grids one after the other along the
+// pipe, a T's red piece then its blue one), and run.json `dense_map` describes them.
+class DenseMapWriter {
+ public:
+  explicit DenseMapWriter(const std::filesystem::path& ply_path)
+      : ply_(ply_path, "pipescope map: dense appearance map (001 IV-B), metres, run frame") {}
+
+  void Add(int index, const DenseMapPiece& piece) {
+    ply_.Append(piece.map.points);
+    Finished& finished = finished_[index];
+    finished.grid = piece.map.mean_grey.clone();
+    cv::patchNaNs(finished.grid, 0.0);
+    finished.grid.convertTo(finished.grid, CV_8U);
+    finished.cells_seen = static_cast<long long>(piece.map.points.size());
   }
-  nlohmann::json mosaics = nlohmann::json::array();
-  for (const auto& [section, grids] : section_grids) {
-    cv::Mat mosaic;
-    cv::vconcat(grids, mosaic);
-    const std::string name = "dense_section_" + std::to_string(section) + ".png";
-    run->WriteImage(name, mosaic);
-    mosaics.push_back({{"section", section}, {"file", name}});
+
+  // The mosaics and run.json `dense_map`, once the pass has ended; closes the PLY.
+  void Finish(const std::vector<DenseMapPiece>& all, const DenseMapPassOptions& options,
+              RunDirectory* run) {
+    ply_.Close();
+    std::map<int, std::vector<cv::Mat>> section_grids;
+    nlohmann::json pieces = nlohmann::json::array();
+    for (std::size_t index = 0; index < all.size(); ++index) {
+      const DenseMapPiece& piece = all[index];
+      const Finished& finished = finished_[static_cast<int>(index)];
+      section_grids[piece.section].push_back(finished.grid);
+      const Eigen::Vector3d& p = piece.cylinder.axis_point;
+      const Eigen::Vector3d& d = piece.cylinder.axis_direction;
+      const Eigen::Vector3d r =
+          piece.cylinder.reference_direction.value_or(Eigen::Vector3d::Zero());
+      const char* part = piece.part == DenseMapPart::kStraight ? "straight"
+                         : piece.part == DenseMapPart::kTRed   ? "t-red"
+                                                               : "t-blue";
+      pieces.push_back({{"section", piece.section},
+                        {"part", part},
+                        {"first_keyframe", piece.first_keyframe},
+                        {"last_keyframe", piece.last_keyframe},
+                        {"axis_point", {p.x(), p.y(), p.z()}},
+                        {"axis_direction", {d.x(), d.y(), d.z()}},
+                        {"reference_direction", {r.x(), r.y(), r.z()}},
+                        {"begin_m", piece.cylinder.begin_m},
+                        {"end_m", piece.cylinder.end_m},
+                        {"rows", finished.grid.rows},
+                        {"cols", finished.grid.cols},
+                        {"cells_seen", finished.cells_seen},
+                        {"keyframes_used", piece.keyframes_used},
+                        {"fit_median_m", piece.fit_median_m}});
+    }
+    nlohmann::json mosaics = nlohmann::json::array();
+    for (const auto& [section, grids] : section_grids) {
+      cv::Mat mosaic;
+      cv::vconcat(grids, mosaic);
+      const std::string name = "dense_section_" + std::to_string(section) + ".png";
+      run->WriteImage(name, mosaic);
+      mosaics.push_back({{"section", section}, {"file", name}});
+    }
+    run->report().Extra("dense_map") = {{"spacing_m", options.appearance.spacing_m},
+                                        {"points", ply_.points()},
+                                        {"pieces", pieces},
+                                        {"mosaics", mosaics}};
   }
-  WriteDenseAppearancePly(run->staging_path() / "points_dense.ply", points,
-                          "pipescope map: dense appearance map (001 IV-B), metres, run frame");
-  run->report().Extra("dense_map") = {{"spacing_m", options.appearance.spacing_m},
-                                      {"points", points.size()},
-                                      {"pieces", pieces},
-                                      {"mosaics", mosaics}};
-}
+
+ private:
+  struct Finished {
+    cv::Mat grid;
+    long long cells_seen = 0;
+  };
+  DenseAppearancePlyWriter ply_;
+  std::map<int, Finished> finished_;
+};
 
 int RunMap(const RunFlags& flags) {
   if (flags.list_keys) {
@@ -237,7 +259,13 @@ int RunMap(const RunFlags& flags) {
   run.SetDataset(manifest);
   run.SetWriteReport(!flags.no_report);
 
-  const FisheyeMappingResult result = RunFisheyeMapping(manifest, camera, options);
+  std::optional<DenseMapWriter> dense_writer;
+  DenseMapPieceSink dense_sink;
+  if (options.dense_map.enabled) {
+    dense_writer.emplace(run.staging_path() / "points_dense.ply");
+    dense_sink = [&](int index, const DenseMapPiece& piece) { dense_writer->Add(index, piece); };
+  }
+  const FisheyeMappingResult result = RunFisheyeMapping(manifest, camera, options, dense_sink);
   if (result.keyframes.empty()) {
     throw InputError(flags.dataset + ": no frame could be used for mapping");
   }
@@ -354,7 +382,7 @@ int RunMap(const RunFlags& flags) {
   }
   run.WriteImage("classification.png", DrawClassificationStrip(initial, filtered));
   WriteEstimatedJunctions(run.staging_path() / "junctions.yaml", junctions);
-  WriteDenseMap(result, options.dense_map, &run);
+  if (dense_writer) dense_writer->Finish(result.dense_map, options.dense_map, &run);
   if (ground_truth) {
     run.WriteMetrics(*ground_truth, result.trajectory, manifest.groundtruth_path.string());
   }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -395,6 +396,38 @@ TEST(DenseAppearancePly, WritesBinaryLittleEndianFloatsAndGreyAsEqualColours) {
       EXPECT_EQ(static_cast<unsigned char>(file[at + 12 + k]), expected_grey[i]) << i;
     }
   }
+}
+
+// Written in pieces, the file holds the same vertices as written at once, and its header's
+// count (padded with spaces) reads as the total.
+TEST(DenseAppearancePly, APieceByPieceWriterGivesTheSameCloud) {
+  const std::filesystem::path dir = MakeTestDirectory("dense_appearance_ply_stream");
+  const std::vector<DenseMapPoint> first = {{Eigen::Vector3d(1.5, -0.25, 3.0), 99.6f, 0, 0},
+                                            {Eigen::Vector3d(0.0, 2.0, -1.0), 300.0f, 0, 1}};
+  const std::vector<DenseMapPoint> second = {{Eigen::Vector3d(0.5, 0.5, 0.5), -4.0f, 1, 0}};
+  DenseAppearancePlyWriter writer(dir / "streamed.ply", "test");
+  writer.Append(first);
+  writer.Append({});
+  writer.Append(second);
+  writer.Close();
+  EXPECT_EQ(writer.points(), 3);
+  std::vector<DenseMapPoint> all = first;
+  all.insert(all.end(), second.begin(), second.end());
+  WriteDenseAppearancePly(dir / "whole.ply", all, "test");
+  const std::string streamed = ReadTextFile(dir / "streamed.ply");
+  const std::string whole = ReadTextFile(dir / "whole.ply");
+  const std::string end = "end_header\n";
+  const std::size_t streamed_body = streamed.find(end) + end.size();
+  const std::size_t whole_body = whole.find(end) + end.size();
+  EXPECT_EQ(streamed.substr(streamed_body), whole.substr(whole_body));
+  std::istringstream header(streamed.substr(0, streamed_body));
+  std::vector<std::string> words;
+  for (std::string word; header >> word;) words.push_back(word);
+  std::istringstream whole_header(whole.substr(0, whole_body));
+  std::vector<std::string> whole_words;
+  for (std::string word; whole_header >> word;) whole_words.push_back(word);
+  EXPECT_EQ(words, whole_words);  // the same header word for word: "element vertex 3"
+  EXPECT_THROW(DenseAppearancePlyWriter(dir / "missing" / "x.ply"), InputError);
 }
 
 }  // namespace

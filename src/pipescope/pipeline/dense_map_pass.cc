@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/io/image_source.h"
@@ -108,14 +109,14 @@ void RemoveCellsInside(const DenseMapCylinder& other, DenseAppearanceMap* map) {
 
 std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const Camera& camera,
                                          const MappedRoute& route, double radius_m,
-                                         const DenseMapPassOptions& options) {
+                                         const DenseMapPassOptions& options,
+                                         const DenseMapPieceSink& on_finished) {
   std::vector<DenseMapPiece> pieces;
   if (!options.enabled) return pieces;
-  // Each piece: its cylinder, the wall between its first and last camera's feet on the axis,
-  // with phi = 0 towards its section's first camera's upright (-y).
-  std::vector<std::unique_ptr<DenseAppearanceAccumulator>> accumulators;
-  // The key frames that see a piece's wall in the band: from a little behind its start (a
-  // wall point is seen from r / tan(50 deg) = 0.84 r behind it down to beside it) to its end.
+  // Each straight piece: its cylinder, the wall between its first and last camera's feet on the
+  // axis, with phi = 0 towards its section's first camera's upright (-y). The key frames that see a
+  // piece's wall in the band: from a little behind its start (a wall point is seen from r / tan(50
+  // deg) = 0.84 r behind it down to beside it) to its end.
   const double behind_m = radius_m / std::tan(options.appearance.min_colatitude_deg * M_PI / 180);
   std::map<int, std::vector<int>> pieces_of_keyframe;
   std::map<int, Eigen::Vector3d> section_up;
@@ -158,11 +159,18 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
         pieces_of_keyframe[k].push_back(index);
       }
     }
-    accumulators.push_back(
-        std::make_unique<DenseAppearanceAccumulator>(piece.cylinder, options.appearance));
     pieces.push_back(piece);
   }
   if (pieces.empty()) return pieces;
+  // A T's two pieces follow each other; each loses the cells inside the other's cylinder.
+  std::vector<std::optional<DenseMapCylinder>> open_inside(pieces.size());
+  for (std::size_t p = 0; p + 1 < pieces.size(); ++p) {
+    if (pieces[p].part == DenseMapPart::kTRed && pieces[p + 1].part == DenseMapPart::kTBlue &&
+        pieces[p].section == pieces[p + 1].section) {
+      open_inside[p] = pieces[p + 1].cylinder;
+      open_inside[p + 1] = pieces[p].cylinder;
+    }
+  }
 
   // The key frames used: every one at least keyframe_spacing_m along the path from the last.
   std::map<int, int> keyframe_of_frame;
@@ -173,6 +181,29 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
     last_used = centre;
     keyframe_of_frame[route.frame_index[k]] = k;
   }
+  // Each piece's accumulator lives from its first frame read to its last, so a long route holds
+  // only the few pieces around the camera.
+  std::vector<int> last_frame(pieces.size(), -1);
+  for (const auto& [frame, k] : keyframe_of_frame) {
+    for (const int p : pieces_of_keyframe[k]) last_frame[p] = std::max(last_frame[p], frame);
+  }
+  std::vector<std::unique_ptr<DenseAppearanceAccumulator>> accumulators(pieces.size());
+  std::vector<bool> finished(pieces.size(), false);
+  const auto finish = [&](int p) {
+    if (!accumulators[p]) {  // no frame read: an empty map
+      accumulators[p] =
+          std::make_unique<DenseAppearanceAccumulator>(pieces[p].cylinder, options.appearance);
+    }
+    pieces[p].keyframes_used = accumulators[p]->num_key_frames();
+    pieces[p].map = accumulators[p]->Result();
+    accumulators[p].reset();
+    if (open_inside[p]) RemoveCellsInside(*open_inside[p], &pieces[p].map);
+    finished[p] = true;
+    if (on_finished) {
+      on_finished(p, pieces[p]);
+      pieces[p].map = DenseAppearanceMap{};
+    }
+  };
   // The gain mask (000 §3.2) takes out the light's and the lens's fall-off, which is the same
   // in every frame of a pipe: without it each cell's mean carries the shading of the image
   // places it was seen at. Scaled by the mask's mean, the map keeps about the frames' grey range.
@@ -194,21 +225,16 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
     }
     const Eigen::Isometry3d cam_from_world = route.world_from_cam[k].inverse();
     for (const int p : pieces_of_keyframe[k]) {
+      if (!accumulators[p]) {
+        accumulators[p] =
+            std::make_unique<DenseAppearanceAccumulator>(pieces[p].cylinder, options.appearance);
+      }
       accumulators[p]->AddKeyFrame(camera, cam_from_world, grey);
+      if (last_frame[p] == static_cast<int>(frame->index)) finish(p);
     }
   }
   for (std::size_t p = 0; p < pieces.size(); ++p) {
-    pieces[p].keyframes_used = accumulators[p]->num_key_frames();
-    pieces[p].map = accumulators[p]->Result();
-  }
-  // A T's two pieces follow each other; each loses the cells inside the other's cylinder.
-  for (std::size_t p = 0; p + 1 < pieces.size(); ++p) {
-    if (pieces[p].part != DenseMapPart::kTRed || pieces[p + 1].part != DenseMapPart::kTBlue ||
-        pieces[p].section != pieces[p + 1].section) {
-      continue;
-    }
-    RemoveCellsInside(pieces[p + 1].cylinder, &pieces[p].map);
-    RemoveCellsInside(pieces[p].cylinder, &pieces[p + 1].map);
+    if (!finished[p]) finish(static_cast<int>(p));  // a frame it waited for was not read
   }
   return pieces;
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <functional>
 #include <vector>
 
 #include "pipescope/camera/camera.h"
@@ -74,8 +75,14 @@ struct MappedRoute {
 // side they are open only when the other pipe runs through the T, which the model does not say,
 // so they are left out too. The T's third arm, which the robot did not drive, is not mapped. The
 // frames are read again, one at a time (the images are not held), after the poses are final.
+//
+// With `on_finished`, each piece is handed to it (with its index in the returned list) as soon
+// as its last frame is read, and its map is then released: the returned pieces keep only
+// their description, so a long route's map can be written piece by piece.
+using DenseMapPieceSink = std::function<void(int index, const DenseMapPiece& piece)>;
 std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const Camera& camera,
                                          const MappedRoute& route, double radius_m,
-                                         const DenseMapPassOptions& options);
+                                         const DenseMapPassOptions& options,
+                                         const DenseMapPieceSink& on_finished = {});
 
 }  // namespace pipescope

@@ -91,7 +91,8 @@ void AdjustTIntersections(const Camera& camera, const KeyframeOdometry& odometry
 }  // namespace
 
 FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
-                                       const FisheyeMappingOptions& options) {
+                                       const FisheyeMappingOptions& options,
+                                       const DenseMapPieceSink& dense_sink) {
   FisheyeMappingResult result;
   // The dense map reads the gain mask after the odometry: a bad one must stop the run now.
   if (options.dense_map.enabled) {
@@ -247,8 +248,8 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
       route.t_intersections.push_back(
           {t.section, t.geometry.centre, t.geometry.red_direction, t.geometry.blue_direction});
     }
-    result.dense_map =
-        BuildDenseMap(manifest, camera, route, options.odometry.window.radius_m, options.dense_map);
+    result.dense_map = BuildDenseMap(manifest, camera, route, options.odometry.window.radius_m,
+                                     options.dense_map, dense_sink);
     clock.AddTo(&result.stage_times, "dense_map");
   }
   for (const FisheyeKeyframe& keyframe : result.keyframes) {

@@ -94,7 +94,10 @@ struct FisheyeMappingResult {
   StageTimes stage_times;
 };
 
+// `dense_sink` receives each piece of the dense map as it is finished (BuildDenseMap); without
+// one, result.dense_map keeps every piece's map.
 FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Camera& camera,
-                                       const FisheyeMappingOptions& options);
+                                       const FisheyeMappingOptions& options,
+                                       const DenseMapPieceSink& dense_sink = {});
 
 }  // namespace pipescope

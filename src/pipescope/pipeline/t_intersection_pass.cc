@@ -144,7 +144,7 @@ double TIntersectionPass::FitEndCylinder(const std::vector<SparsePoint>& points,
 TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
     const std::vector<std::vector<KeyframeOdometry::Observation>>& tracks, const TSpan& span,
     const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
-    double scale, int threads) const {
+    double scale) const {
   StartedAdjustment started;
   started.scale = scale;
   std::copy(cylinders.red_cylinder, cylinders.red_cylinder + 4, started.problem.red_cylinder);
@@ -199,9 +199,7 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
     }
   }
   if (problem.points.size() < 20) return started;
-  TIntersectionOptions adjustment = options_.adjustment;
-  adjustment.num_threads = threads;
-  started.summary = OptimiseTIntersection(camera_, adjustment, &problem);
+  started.summary = OptimiseTIntersection(camera_, options_.adjustment, &problem);
   if (!started.summary.usable) return started;
   // The score: every observation of the T's tracks, its error capped, so that the starts
   // compare on the same observations whatever each kept as inliers or triangulated.
@@ -332,9 +330,7 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
       best = BestStart(odometry, span, poses, problem, &record);
     }
     if (best && choice_record.rejection.empty()) {
-      // One adjustment: both cores to Ceres.
-      best = AdjustFromScale(odometry.TracksIn(red, blue, 2), span, poses, problem, best->scale,
-                             2);
+      best = AdjustFromScale(odometry.TracksIn(red, blue, 2), span, poses, problem, best->scale);
     }
   }
   if (!best || best->problem.points.size() < 20) {

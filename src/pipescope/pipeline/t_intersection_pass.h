@@ -117,7 +117,7 @@ class TIntersectionPass {
     int blue_end = 0;
   };
   // One adjustment started from the chained T scaled by `scale` about the red section's last
-  // key frame, on `threads` Ceres threads.
+  // key frame.
   struct StartedAdjustment {
     double scale = 1.0;
     TIntersectionProblem problem;
@@ -127,7 +127,7 @@ class TIntersectionPass {
   StartedAdjustment AdjustFromScale(
       const std::vector<std::vector<KeyframeOdometry::Observation>>& tracks, const TSpan& span,
       const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
-      double scale, int threads = 1) const;
+      double scale) const;
   // The end cylinders of `span` and the model's start from them, into `problem`; false, with
   // the record's rejection, when the T cannot be modelled. Fills the record's end fits, axis
   // gap and initial model.
