@@ -100,13 +100,17 @@ std::vector<TIntersectionRecord> TIntersectionPass::Run(
       }
       return span;
     };
+    // P_r red_lead_m before the T, as long as the red section keeps min_end_length_m of travel
+    // before it to fit its end cylinder to.
+    int red_first = red_last;
+    while (red_first > 0 && section_of[red_first - 1] == s - 1) --red_first;
     int red = red_last;
-    while (red > 0 && section_of[red - 1] == s - 1 &&
-           PathLength(*world_from_cam, red, red_last) < options_.red_lead_m) {
+    while (red > red_first && PathLength(*world_from_cam, red, red_last) < options_.red_lead_m &&
+           PathLength(*world_from_cam, red_first, red - 1) >= options_.min_end_length_m) {
       --red;
     }
-    records.push_back(AdjustOne(odometry, span_from(red), span_from(red_last), timestamps,
-                                *points, world_from_cam));
+    records.push_back(AdjustOne(odometry, span_from(red), span_from(red_last), timestamps, *points,
+                                world_from_cam));
     const TIntersectionRecord& t = records.back();
     if (!t.rejection.empty()) continue;
     std::vector<SparsePoint> moved;
