@@ -32,9 +32,12 @@ for s in r["sections"]:
     err = s.get("distance_error_pct")
     print(f"  section {s['index']} {s['class']:15s} key frames {s['first_keyframe']:4d}-{s['last_keyframe']:4d}"
           f"  est {s['distance_est_m']:.3f} m  gt {gt if gt is None else f'{gt:.3f}'} m  "
-          f"error {err if err is None else f'{err:+.2f}'} %")
+          f"error {err if err is None else f'{err:+.2f}'} %"
+          + (f"  windows {s['windows_rejected']}/{s['windows']} rejected" if "windows" in s else ""))
 print(f"  whole run: distance_error_pct {m['distance_error_pct']}, ate_rmse_m {m['ate_rmse_m']}, "
       f"rpe_1m_pct {m['rpe_1m_pct']}")
+q = r["quality"]
+print(f"  verdict: {q['verdict']}" + "".join(f"\n    {reason}" for reason in q["reasons"]))
 for t in r.get("t_intersections", []):
     state = "adjusted" if t["adjusted"] else f"kept ({t['rejection']})"
     extra = ""
