@@ -349,7 +349,7 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   ASSERT_TRUE(t["adjusted"].get<bool>()) << t.dump();
   EXPECT_EQ(report["sections"][t["section"].get<int>()]["class"], "t-intersection");
   // The scene's two pipes meet at 89.6 degrees. The straight windows leave the red section's
-  // last half metre turned; held at that section's last key frame (t_red_lead_m: 0) the T came
+  // last half metre turned; held at that section's last key frame (t_red_lead_radii: 0) the T came
   // out at 95.6 degrees, held half a metre before it at 93.3.
   EXPECT_NEAR(t["phi_deg"].get<double>(), 90.0, 4.5);
   const nlohmann::json& red_section = report["sections"][t["section"].get<int>() - 1];

@@ -61,6 +61,7 @@ const StampedPose* NearestPose(const Trajectory& trajectory, double timestamp) {
 
 nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory* ground_truth) {
   nlohmann::json sections = nlohmann::json::array();
+  const std::map<int, StraightSectionWindows> windows = CountStraightSectionWindows(result.windows);
   for (std::size_t s = 0; s < result.sections.size(); ++s) {
     const FisheyeSection& section = result.sections[s];
     const FisheyeKeyframe& first = result.keyframes[section.first_keyframe];
@@ -76,15 +77,9 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
                             {"distance_est_m", est_m}};
     if (section.view_class == PipeViewClass::kStraight) {
       // How many of the section's windows confirmed its length (pipeline/window_confirmation.h).
-      int windows = 0;
-      int rejected = 0;
-      for (const OdometryWindowRecord& window : result.windows) {
-        if (window.section != static_cast<int>(s)) continue;
-        ++windows;
-        rejected += window.rejection.empty() ? 0 : 1;
-      }
-      entry["windows"] = windows;
-      entry["windows_rejected"] = rejected;
+      const auto counted = windows.find(static_cast<int>(s));
+      entry["windows"] = counted == windows.end() ? 0 : counted->second.windows;
+      entry["windows_rejected"] = counted == windows.end() ? 0 : counted->second.rejected;
     }
     if (ground_truth) {
       const StampedPose* a = NearestPose(*ground_truth, first.timestamp);

@@ -164,8 +164,9 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "t_end_fit_length_m", [](O& o) -> double& { return o.t_intersections.end_fit_length_m; },
           0.05, 100.0, "m", "T model: the straight cylinders fit this much travel on each side"),
       Number<O>(
-          "t_red_lead_m", [](O& o) -> double& { return o.t_intersections.red_lead_m; }, 0.0, 100.0,
-          "m", "T model: the pose held is this much travel before the T (0: the last before it)"),
+          "t_red_lead_radii", [](O& o) -> double& { return o.t_intersections.red_lead_radii; }, 0.0,
+          100.0, "radii",
+          "T model: the pose held is this much travel before the T (0: the last before it)"),
       Number<O>(
           "t_min_turn_deg", [](O& o) -> double& { return o.t_intersections.min_turn_deg; }, 5.0,
           89.0, "deg", "T model: axes closer to parallel are a pass straight through"),

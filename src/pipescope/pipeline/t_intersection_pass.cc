@@ -68,6 +68,7 @@ std::vector<TIntersectionRecord> TIntersectionPass::Run(
   std::vector<TIntersectionRecord> records;
   if (!options_.enabled) return records;
   const int num_keyframes = static_cast<int>(world_from_cam->size());
+  const double lead_m = options_.red_lead_radii * options_.adjustment.radius_m;
   for (int s = 1; s + 1 < static_cast<int>(classes.size()); ++s) {
     if (classes[s] != PipeViewClass::kTIntersection || classes[s - 1] != PipeViewClass::kStraight ||
         classes[s + 1] != PipeViewClass::kStraight) {
@@ -100,12 +101,12 @@ std::vector<TIntersectionRecord> TIntersectionPass::Run(
       }
       return span;
     };
-    // P_r red_lead_m before the T, as long as the red section keeps min_end_length_m of travel
-    // before it to fit its end cylinder to.
+    // P_r red_lead_radii before the T, as long as the red section keeps min_end_length_m of
+    // travel before it to fit its end cylinder to.
     int red_first = red_last;
     while (red_first > 0 && section_of[red_first - 1] == s - 1) --red_first;
     int red = red_last;
-    while (red > red_first && PathLength(*world_from_cam, red, red_last) < options_.red_lead_m &&
+    while (red > red_first && PathLength(*world_from_cam, red, red_last) < lead_m &&
            PathLength(*world_from_cam, red_first, red - 1) >= options_.min_end_length_m) {
       --red;
     }
@@ -321,21 +322,16 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   // The start is chosen on the T from its red section's last key frame: seven adjustments of
   // the T alone cost a third of those with the half metre before it, and the scale they choose
   // is that of the same stretch (scaled about that key frame either way). The T is then
-  // adjusted once more from there, with P_r red_lead_m before it.
-  std::optional<StartedAdjustment> best;
-  if (choice.red == span.red) {
-    best = BestStart(odometry, span, poses, problem, &record);
-  } else {
-    TIntersectionProblem choice_problem;
-    TIntersectionRecord choice_record;
-    if (StartModel(choice, points, poses, &choice_problem, &choice_record)) {
-      best = BestStart(odometry, choice, poses, choice_problem, &record);
-    } else {
-      best = BestStart(odometry, span, poses, problem, &record);
-    }
-    if (best && choice_record.rejection.empty()) {
-      best = AdjustFromScale(odometry.TracksIn(red, blue, 2), span, poses, problem, best->scale);
-    }
+  // adjusted once more from there, with P_r red_lead_radii before it.
+  TIntersectionProblem choice_problem;
+  TIntersectionRecord choice_record;
+  const bool choose_on_short =
+      choice.red != span.red && StartModel(choice, points, poses, &choice_problem, &choice_record);
+  std::optional<StartedAdjustment> best =
+      choose_on_short ? BestStart(odometry, choice, poses, choice_problem, &record)
+                      : BestStart(odometry, span, poses, problem, &record);
+  if (best && choose_on_short) {
+    best = AdjustFromScale(odometry.TracksIn(red, blue, 2), span, poses, problem, best->scale);
   }
   if (!best || best->problem.points.size() < 20) {
     record.rejection = "too few points";

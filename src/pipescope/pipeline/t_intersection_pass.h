@@ -19,13 +19,15 @@ struct TIntersectionPassOptions {
   // 001 §III-D fits the straight cylinders to the scene points of the first and last metre of
   // each straight section.
   double end_fit_length_m = 1.0;
-  // P_r, the pose the adjustment holds, is the red section's key frame this much travel before
-  // its last one, and the key frames after it join the adjustment: the straight windows leave
-  // the last half metre before a T turned (by 4-12 degrees against the truth on the simulated
-  // network, where key frames 0.5-1.5 m earlier are within 1-3 degrees), because the points
-  // they see in the T are held to the straight wall; the T's model places those points on the
-  // nearer of its two walls. 0: P_r is the section's last key frame, as in 001.
-  double red_lead_m = 0.5;
+  // P_r, the pose the adjustment holds, is the red section's key frame this many radii of
+  // travel before its last one, and the key frames after it join the adjustment: the straight
+  // windows leave the stretch before a T from which the camera sees into it turned (the last
+  // key frame 4-12.6 degrees off the truth against those 0.5-2 m before it on the simulated
+  // network's 400 mm pipe, where key frames mid-section differ by 0.3-5.2, median 1.4),
+  // because the points they see in the T are held to the straight wall; the T's model places
+  // those points on the nearer of its two walls. In radii, since how far ahead the camera sees
+  // into the T scales with the pipe. 0: P_r is the section's last key frame, as in 001.
+  double red_lead_radii = 2.5;
   // A straight section with less travel than this on either side leaves the T unmodelled.
   double min_end_length_m = 0.3;
   // Axes closer than this to parallel are a pass straight through, not a turn: no model.
@@ -42,7 +44,8 @@ struct TIntersectionPassOptions {
   double max_blue_shift = 0.5;
   double min_triangulation_angle_deg = 1.5;
   double max_start_error_px = 10.0;
-  // The adjustment starts from the chained T scaled by each of these about P_r and keeps the
+  // The adjustment starts from the chained T scaled by each of these about the red section's last
+  // key frame and keeps the
   // solution whose capped reprojection errors over all the T's observations are least. The
   // range leans long because of how the chain measures a T, not because of one data set: its
   // step lengths put the points it sees on the straight section's wall, but the branch's wall
@@ -54,7 +57,7 @@ struct TIntersectionPassOptions {
 // One T-intersection of the route as the pass found and adjusted it.
 struct TIntersectionRecord {
   int section = 0;        // the T-intersection's section
-  int red_keyframe = 0;   // P_r: the red section's key frame red_lead_m before the T
+  int red_keyframe = 0;   // P_r: the red section's key frame red_lead_radii before the T
   int blue_keyframe = 0;  // P_b: the next straight section's first key frame
   // Why the T kept its chained poses (empty: adjusted): "short section", "end cylinder",
   // "no turn", "axes miss", "too few points", "not converged", "image rms", "cylinder rms",
@@ -75,7 +78,6 @@ struct TIntersectionRecord {
   int triangulated_points = 0;  // the T's points at the start of the adjustment
   double start_scale = 1.0;     // the start the solution came from
   std::vector<std::pair<double, double>> start_scores;  // (scale, score) of every start
-
   // The rigid move applied to P_b and every key frame after it (identity when not adjusted),
   // and the T's adjusted points, for the map's point cloud.
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
@@ -111,7 +113,7 @@ class TIntersectionPass {
   struct TSpan {
     int section = 0;
     int red = 0;       // P_r, held
-    int red_last = 0;  // the red section's last key frame (P_r when red_lead_m is 0)
+    int red_last = 0;  // the red section's last key frame (P_r when red_lead_radii is 0)
     int blue = 0;
     int red_start = 0;
     int blue_end = 0;
@@ -140,7 +142,7 @@ class TIntersectionPass {
                                              const std::vector<Eigen::Isometry3d>& poses,
                                              const TIntersectionProblem& cylinders,
                                              TIntersectionRecord* record) const;
-  // `span`: the T as adjusted, P_r red_lead_m before it; `choice`: the same T with P_r its red
+  // `span`: the T as adjusted, P_r red_lead_radii before it; `choice`: the same T with P_r its red
   // section's last key frame, on which the start is chosen.
   TIntersectionRecord AdjustOne(const KeyframeOdometry& odometry, const TSpan& span,
                                 const TSpan& choice, const std::vector<double>& timestamps,

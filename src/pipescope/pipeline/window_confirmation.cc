@@ -22,30 +22,10 @@ std::string RejectionCounts(const std::map<std::string, int>& why) {
   return counts.str();
 }
 
-struct SectionWindows {
-  int windows = 0;
-  int rejected = 0;
-  int first_keyframe = 0;
-  int last_keyframe = 0;
-  std::map<std::string, int> why;
-};
-
 // One reason per straight section whose own windows were mostly rejected.
 std::vector<std::string> SectionReasons(const std::vector<OdometryWindowRecord>& windows,
                                         const WindowConfirmationOptions& options) {
-  std::map<int, SectionWindows> sections;
-  for (const OdometryWindowRecord& window : windows) {
-    if (!window.straight) continue;
-    auto [it, added] = sections.try_emplace(window.section);
-    SectionWindows& section = it->second;
-    if (added) section.first_keyframe = window.first_keyframe;
-    section.first_keyframe = std::min(section.first_keyframe, window.first_keyframe);
-    section.last_keyframe = std::max(section.last_keyframe, window.last_keyframe);
-    ++section.windows;
-    if (window.rejection.empty()) continue;
-    ++section.rejected;
-    ++section.why[window.rejection];
-  }
+  const std::map<int, StraightSectionWindows> sections = CountStraightSectionWindows(windows);
   std::vector<std::string> reasons;
   for (const auto& [index, section] : sections) {
     if (section.windows < options.min_section_windows) continue;
@@ -62,6 +42,24 @@ std::vector<std::string> SectionReasons(const std::vector<OdometryWindowRecord>&
 }
 
 }  // namespace
+
+std::map<int, StraightSectionWindows> CountStraightSectionWindows(
+    const std::vector<OdometryWindowRecord>& windows) {
+  std::map<int, StraightSectionWindows> sections;
+  for (const OdometryWindowRecord& window : windows) {
+    if (!window.straight) continue;
+    auto [it, added] = sections.try_emplace(window.section);
+    StraightSectionWindows& section = it->second;
+    if (added) section.first_keyframe = window.first_keyframe;
+    section.first_keyframe = std::min(section.first_keyframe, window.first_keyframe);
+    section.last_keyframe = std::max(section.last_keyframe, window.last_keyframe);
+    ++section.windows;
+    if (window.rejection.empty()) continue;
+    ++section.rejected;
+    ++section.why[window.rejection];
+  }
+  return sections;
+}
 
 std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWindowRecord>& windows,
                                                    int longest_straight_section,

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,18 @@ struct WindowConfirmationOptions {
   // a shorter one has none and needs none.
   int window_interval = 10;
 };
+
+// The straight windows of one section: how many, how many rejected and why, and the key frames
+// they span.
+struct StraightSectionWindows {
+  int windows = 0;
+  int rejected = 0;
+  int first_keyframe = 0;
+  int last_keyframe = 0;
+  std::map<std::string, int> why;  // rejection -> count
+};
+std::map<int, StraightSectionWindows> CountStraightSectionWindows(
+    const std::vector<OdometryWindowRecord>& windows);
 
 // The reasons (empty: confirmed) for run.json's quality block. `longest_straight_section`: the
 // key frames of the run's longest straight section.
