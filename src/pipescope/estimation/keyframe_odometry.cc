@@ -391,14 +391,15 @@ std::vector<SparsePoint> KeyframeOdometry::Points() const {
   std::vector<SparsePoint> points;
   for (const auto& [id, track] : tracks_) {
     if (!track.has_point) continue;
-    points.push_back({track.point, sections_[track.observations.front().keyframe].section});
+    points.push_back({track.point, sections_[track.observations.front().keyframe].section, id});
   }
   return points;
 }
 
 std::vector<std::vector<KeyframeOdometry::Observation>> KeyframeOdometry::TracksIn(
-    int first, int last, int min_observations) const {
+    int first, int last, int min_observations, std::vector<long>* ids) const {
   std::vector<std::vector<Observation>> tracks;
+  if (ids) ids->clear();
   for (const auto& [id, track] : tracks_) {
     std::vector<Observation> in_range;
     for (const Observation& observation : track.observations) {
@@ -406,8 +407,9 @@ std::vector<std::vector<KeyframeOdometry::Observation>> KeyframeOdometry::Tracks
         in_range.push_back(observation);
       }
     }
-    if (static_cast<int>(in_range.size()) >= min_observations)
-      tracks.push_back(std::move(in_range));
+    if (static_cast<int>(in_range.size()) < min_observations) continue;
+    tracks.push_back(std::move(in_range));
+    if (ids) ids->push_back(id);
   }
   return tracks;
 }

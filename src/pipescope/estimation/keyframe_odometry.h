@@ -102,7 +102,8 @@ struct OdometryWindowRecord {
 
 struct SparsePoint {
   Eigen::Vector3d position;
-  int section = 0;
+  int section = 0;     // of the track's first observation
+  long track_id = -1;  // the feature track it was triangulated from (-1: none)
 };
 
 // Visual odometry over tracked fisheye key frames in straight sections and T-intersections
@@ -136,7 +137,9 @@ class KeyframeOdometry {
   // The observations in key frames first..last of every track seen there at least
   // `min_observations` times: the input of the passes that run after the odometry (the
   // T-intersections, 001 §III-D).
-  std::vector<std::vector<Observation>> TracksIn(int first, int last, int min_observations) const;
+  // `ids`, when given, receives each returned track's id.
+  std::vector<std::vector<Observation>> TracksIn(int first, int last, int min_observations,
+                                                 std::vector<long>* ids = nullptr) const;
 
  private:
   struct Track {

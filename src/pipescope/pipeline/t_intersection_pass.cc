@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/core/utility.hpp>
 #include <optional>
+#include <unordered_set>
 
 #include "pipescope/geometry/multiview_triangulation.h"
 #include "pipescope/pipeline/section_cylinder.h"
@@ -114,16 +115,33 @@ std::vector<TIntersectionRecord> TIntersectionPass::Run(
                                 world_from_cam));
     const TIntersectionRecord& t = records.back();
     if (!t.rejection.empty()) continue;
-    std::vector<SparsePoint> moved;
-    for (SparsePoint& point : *points) {
-      if (point.section == s) continue;
-      if (point.section > s) point.position = t.correction * point.position;
-      moved.push_back(point);
-    }
-    for (const Eigen::Vector3d& position : t.points) moved.push_back({position, s});
-    *points = std::move(moved);
+    *points = MergeTIntersectionPoints(std::move(*points), s, t);
   }
   return records;
+}
+
+std::vector<SparsePoint> MergeTIntersectionPoints(std::vector<SparsePoint> points, int section,
+                                                  const TIntersectionRecord& t) {
+  const std::unordered_set<long> replaced(t.point_tracks.begin(), t.point_tracks.end());
+  std::vector<SparsePoint> merged;
+  for (SparsePoint& point : points) {
+    if (point.section == section || (point.track_id >= 0 && replaced.count(point.track_id) > 0)) {
+      continue;
+    }
+    if (point.section > section) point.position = t.correction * point.position;
+    merged.push_back(point);
+  }
+  for (std::size_t p = 0; p < t.points.size(); ++p) {
+    merged.push_back({t.points[p], section, p < t.point_tracks.size() ? t.point_tracks[p] : -1});
+  }
+  return merged;
+}
+
+TIntersectionPass::TTracks TIntersectionPass::TracksOf(const KeyframeOdometry& odometry, int red,
+                                                       int blue) {
+  TTracks tracks;
+  tracks.observations = odometry.TracksIn(red, blue, 2, &tracks.ids);
+  return tracks;
 }
 
 double TIntersectionPass::FitEndCylinder(const std::vector<SparsePoint>& points, int section,
@@ -147,9 +165,8 @@ double TIntersectionPass::FitEndCylinder(const std::vector<SparsePoint>& points,
 }
 
 TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
-    const std::vector<std::vector<KeyframeOdometry::Observation>>& tracks, const TSpan& span,
-    const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
-    double scale) const {
+    const TTracks& tracks, const TSpan& span, const std::vector<Eigen::Isometry3d>& poses,
+    const TIntersectionProblem& cylinders, double scale) const {
   StartedAdjustment started;
   started.scale = scale;
   std::copy(cylinders.red_cylinder, cylinders.red_cylinder + 4, started.problem.red_cylinder);
@@ -167,7 +184,7 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
   const auto model = FitTIntersectionModel(start.front(), problem.red_cylinder, start.back(),
                                            problem.blue_cylinder, options_.min_turn_deg * kDeg);
   int observations = 0;
-  for (const auto& track : tracks) observations += static_cast<int>(track.size());
+  for (const auto& track : tracks.observations) observations += static_cast<int>(track.size());
   const double cap_px = 3.0;  // about where the MAD stages cut
   started.score = observations * cap_px * cap_px;
   if (!model) return started;
@@ -188,13 +205,15 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
   for (const Eigen::Isometry3d& pose : start) {
     problem.poses.push_back(WindowPose::FromIsometry(pose.inverse()));
   }
-  for (const auto& track : tracks) {
+  for (std::size_t t = 0; t < tracks.observations.size(); ++t) {
+    const std::vector<KeyframeOdometry::Observation>& track = tracks.observations[t];
     Eigen::Vector3d point;
     if (!Triangulate(track, start, red, options_.min_triangulation_angle_deg * kDeg, &point)) {
       continue;
     }
     const int index = static_cast<int>(problem.points.size());
     problem.points.push_back(point);
+    started.point_tracks.push_back(tracks.ids[t]);
     for (const KeyframeOdometry::Observation& observation : track) {
       const bool inlier =
           ReprojectionErrorPx(camera_, problem.poses[observation.keyframe - red].ToIsometry(),
@@ -261,8 +280,7 @@ std::optional<TIntersectionPass::StartedAdjustment> TIntersectionPass::BestStart
   // an adjustment started there stays in that basin (a T 11 % short, 1.15 px); each start ends
   // in a minimum of its own. So the adjustment starts from several scales of the chained T, and
   // the solution that explains the T's images best is kept.
-  const std::vector<std::vector<KeyframeOdometry::Observation>> tracks =
-      odometry.TracksIn(span.red, span.blue, 2);
+  const TTracks tracks = TracksOf(odometry, span.red, span.blue);
   // The starts are independent: they run on OpenCV's workers (both cores are free once the
   // tracking is done), each into its own slot, so the choice does not depend on the threads.
   const int num_starts = static_cast<int>(options_.start_scales.size());
@@ -331,7 +349,7 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
       choose_on_short ? BestStart(odometry, choice, poses, choice_problem, &record)
                       : BestStart(odometry, span, poses, problem, &record);
   if (best && choose_on_short) {
-    best = AdjustFromScale(odometry.TracksIn(red, blue, 2), span, poses, problem, best->scale);
+    best = AdjustFromScale(TracksOf(odometry, red, blue), span, poses, problem, best->scale);
   }
   if (!best || best->problem.points.size() < 20) {
     record.rejection = "too few points";
@@ -366,7 +384,9 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   place(problem.model);
   const std::vector<int> inliers = InlierCounts(problem.observations, problem.points.size());
   for (std::size_t p = 0; p < problem.points.size(); ++p) {
-    if (inliers[p] >= 2) record.points.push_back(problem.points[p]);
+    if (inliers[p] < 2) continue;
+    record.points.push_back(problem.points[p]);
+    record.point_tracks.push_back(best->point_tracks[p]);
   }
   return record;
 }

@@ -79,11 +79,19 @@ struct TIntersectionRecord {
   double start_scale = 1.0;     // the start the solution came from
   std::vector<std::pair<double, double>> start_scores;  // (scale, score) of every start
   // The rigid move applied to P_b and every key frame after it (identity when not adjusted),
-  // and the T's adjusted points, for the map's point cloud.
+  // and the T's adjusted points, for the map's point cloud, with the feature track of each.
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3d> points;
+  std::vector<long> point_tracks;
   TIntersectionSummary summary;
 };
+
+// The map's points after the T of section `section` was adjusted (`t`): the T's own points
+// replace the section's points and every other point of the same feature tracks (the red
+// section's last stretch is seen again inside the T, and would otherwise be in the map twice,
+// once from the poses before the adjustment), and the points after the T follow its correction.
+std::vector<SparsePoint> MergeTIntersectionPoints(std::vector<SparsePoint> points, int section,
+                                                  const TIntersectionRecord& t);
 
 // 001 §III-D over a mapped route, after the odometry: for each T-intersection section between
 // two straight sections, straight cylinders are fitted to the last metre before it (relative
@@ -120,16 +128,22 @@ class TIntersectionPass {
   };
   // One adjustment started from the chained T scaled by `scale` about the red section's last
   // key frame.
+  // The feature tracks seen at least twice in a T's key frames, and their ids.
+  struct TTracks {
+    std::vector<std::vector<KeyframeOdometry::Observation>> observations;
+    std::vector<long> ids;
+  };
+  static TTracks TracksOf(const KeyframeOdometry& odometry, int red, int blue);
   struct StartedAdjustment {
     double scale = 1.0;
     TIntersectionProblem problem;
+    std::vector<long> point_tracks;  // the feature track of each of problem.points
     TIntersectionSummary summary;
     double score = 0.0;  // squared reprojection errors capped at 3 px, over all observations
   };
-  StartedAdjustment AdjustFromScale(
-      const std::vector<std::vector<KeyframeOdometry::Observation>>& tracks, const TSpan& span,
-      const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
-      double scale) const;
+  StartedAdjustment AdjustFromScale(const TTracks& tracks, const TSpan& span,
+                                    const std::vector<Eigen::Isometry3d>& poses,
+                                    const TIntersectionProblem& cylinders, double scale) const;
   // The end cylinders of `span` and the model's start from them, into `problem`; false, with
   // the record's rejection, when the T cannot be modelled. Fills the record's end fits, axis
   // gap and initial model.
