@@ -293,6 +293,7 @@ int RunMap(const RunFlags& flags) {
                               {"matches_guided", keyframe.matches_guided},
                               {"scale_points", keyframe.points_used},
                               {"direction_rejected", keyframe.direction_rejected},
+                              {"stationary", keyframe.stationary},
                               {"median_flow_px", keyframe.median_flow_px}});
   }
   report.Extra("keyframes") = classification;

@@ -95,6 +95,15 @@ void KeyframeOdometry::EstimatePose(int k) {
     segment_start_ = k;
     return;
   }
+  // A crawler that stands still: the features moved only by the rotation, so the translation's
+  // direction is noise. The camera keeps its place and turns as measured.
+  if (MedianParallax(k) < options_.stationary_parallax_rad) {
+    Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+    turn.linear() = keyframe.relative_pose.rotation;
+    cam_from_world_[k] = turn * cam_from_world_[k - 1];
+    steps_[k].stationary = true;
+    return;
+  }
   // The crawler's direction of travel is nearly fixed in the camera frame (the camera is
   // mounted on it, looking along the pipe): a translation more than max_step_direction_change_deg
   // off the recent steps' mean direction (at the start, the optical axis; either sign) is a
@@ -189,12 +198,37 @@ void KeyframeOdometry::EstimatePose(int k) {
   }
 }
 
-// The mean of the recent steps' translation directions (cam_k_from_previous), or the
-// optical axis before the first step.
+// Median over key frame k's features tracked from key frame k-1 of the angle between their two
+// bearings with the relative rotation taken out: what the translation moved them; infinite
+// without any such feature (nothing shows that the camera stood still).
+double KeyframeOdometry::MedianParallax(int k) const {
+  const TrackedKeyframe& keyframe = tracked_[k];
+  const Eigen::Matrix3d& rotation = keyframe.relative_pose.rotation;
+  std::vector<double> parallax;
+  for (const TrackedFeature& feature : keyframe.features) {
+    const Track& track = tracks_.at(feature.track_id);
+    if (track.observations.size() < 2) continue;
+    const Observation& previous = track.observations[track.observations.size() - 2];
+    if (previous.keyframe != k - 1) continue;
+    parallax.push_back(std::acos(
+        std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0)));
+  }
+  return parallax.empty() ? std::numeric_limits<double>::infinity() : UpperMedian(parallax);
+}
+
+// The mean of the recent steps' translation directions (cam_k_from_previous), each turned to
+// the sense of the latest one, or the optical axis before the first step. The direction is a
+// line: a crawler that reverses moves along the same pipe, and a plain mean of steps on both
+// sides of the turnaround is near zero, so its direction is noise, and every step after it
+// would be rejected (and, rejected, never renew it).
 Eigen::Vector3d KeyframeOdometry::ReferenceDirection() const {
+  if (recent_directions_.empty()) return Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d& latest = recent_directions_.back();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& direction : recent_directions_) sum += direction;
-  return sum.norm() > 0.0 ? sum.normalized() : Eigen::Vector3d::UnitZ();
+  for (const Eigen::Vector3d& direction : recent_directions_) {
+    sum += direction.dot(latest) < 0.0 ? -direction : direction;
+  }
+  return sum.normalized();  // at least |latest| = 1
 }
 
 // Length of the camera path through key frames first..last.

@@ -50,6 +50,12 @@ struct KeyframeOdometryOptions {
   // A key-frame translation more than this angle off the recent steps' direction (either way)
   // is taken for a wrong relative pose and replaced by the recent motion.
   double max_step_direction_change_deg = 30.0;
+  // A key-frame step whose median parallax (the angle between a feature's two bearings once the
+  // relative rotation is taken out) is below this stood still: its translation direction is
+  // noise, so the camera keeps its place and takes the measured rotation. About twice the
+  // tracker's inlier threshold (0.004 rad, about 1.2 px on 001's 1280x960 lens), the parallax's
+  // noise.
+  double stationary_parallax_rad = 0.008;
   // A step length more than this factor off the median speed of the last speed_history steps
   // is not taken; the next source (structure, then that speed) is.
   double max_step_change = 2.0;
@@ -84,6 +90,7 @@ struct KeyframeOdometryOptions {
 struct KeyframeStepRecord {
   int points_used = 0;              // triangulated points seen that fixed the relative scale
   bool direction_rejected = false;  // translation off the recent direction: motion continued
+  bool stationary = false;          // no parallax: the camera stood still (measured, not predicted)
 };
 
 struct OdometryWindowRecord {
@@ -151,6 +158,7 @@ class KeyframeOdometry {
   void AddObservations(int k);
   void EstimatePose(int k);
   Eigen::Vector3d ReferenceDirection() const;
+  double MedianParallax(int k) const;
   double PathLength(int first, int last) const;
   static double PathLength(const std::vector<Eigen::Isometry3d>& cam_from_world);
   double MaxSpeedOverMedian(const std::vector<Eigen::Isometry3d>& cam_from_world, int first) const;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -40,8 +41,8 @@ class KeyframeOdometryTest : public testing::Test {
   TrackedKeyframe Keyframe(int k, long track_offset = 0, bool has_previous = true) const {
     TrackedKeyframe keyframe;
     keyframe.frame_index = kFramesPerKeyframe * k;
-    const Eigen::Isometry3d cam_from_world = WobblingCamFromWorld(k, kStep);
-    const double ahead_min = kStep * k + 0.03, ahead_max = kStep * k + 0.6;
+    const Eigen::Isometry3d cam_from_world = WobblingCamFromWorld(station_(k), kStep);
+    const double ahead_min = kStep * station_(k) + 0.03, ahead_max = kStep * station_(k) + 0.6;
     for (std::size_t i = 0; i < wall_points_.size(); ++i) {
       const Eigen::Vector3d& point = wall_points_[i];
       if (point.z() < ahead_min || point.z() > ahead_max) continue;
@@ -56,18 +57,22 @@ class KeyframeOdometryTest : public testing::Test {
     }
     if (k > 0 && has_previous) {
       const Eigen::Isometry3d this_from_previous =
-          cam_from_world * WobblingCamFromWorld(k - 1, kStep).inverse();
+          cam_from_world * WobblingCamFromWorld(station_(k - 1), kStep).inverse();
       keyframe.has_previous = true;
       keyframe.relative_pose.success = true;
       keyframe.relative_pose.rotation = this_from_previous.linear();
-      keyframe.relative_pose.translation = this_from_previous.translation().normalized();
+      // Standing still, the five-point translation is noise: some sideways direction.
+      keyframe.relative_pose.translation = this_from_previous.translation().norm() > 1e-9
+                                               ? this_from_previous.translation().normalized()
+                                               : Eigen::Vector3d(0.6, 0.8, 0.0);
     }
     return keyframe;
   }
 
   // Key frame k's true pose in the first key frame's camera frame (the odometry's world).
-  static Eigen::Isometry3d TrueWorldFromCam(int k) {
-    return WobblingCamFromWorld(0, kStep) * WobblingCamFromWorld(k, kStep).inverse();
+  Eigen::Isometry3d TrueWorldFromCam(int k) const {
+    return WobblingCamFromWorld(station_(0), kStep) *
+           WobblingCamFromWorld(station_(k), kStep).inverse();
   }
 
   static KeyframeSection Straight(int k, int count) {
@@ -77,6 +82,8 @@ class KeyframeOdometryTest : public testing::Test {
   Camera camera_;
   std::vector<Eigen::Vector3d> wall_points_;
   KeyframeOdometryOptions options_;
+  // Where key frame k stands, in steps of kStep down the pipe (the camera always looks down it).
+  std::function<int(int)> station_ = [](int k) { return k; };
 };
 
 TEST_F(KeyframeOdometryTest, RecoversTheMetricPathFromTheRadius) {
@@ -173,6 +180,44 @@ TEST_F(KeyframeOdometryTest, ATrackingResetContinuesAtTheRecentSpeed) {
       (odometry.WorldFromCam(kCount - 1).translation() - odometry.WorldFromCam(0).translation())
           .norm(),
       kStep * (kCount - 1), 0.01 * kStep * (kCount - 1));
+}
+
+TEST_F(KeyframeOdometryTest, ACrawlerThatReversesIsFollowedBack) {
+  // Down the pipe for 20 key frames, then back up it, looking down it all the while: the
+  // steps' direction flips, which is the same line, not a wrong relative pose.
+  station_ = [](int k) { return k < 20 ? k : 38 - k; };
+  constexpr int kCount = 36;
+  KeyframeOdometry odometry(camera_, options_);
+  for (int k = 0; k < kCount; ++k) odometry.Add(Keyframe(k), Straight(k, kCount));
+  for (int k = 1; k < kCount; ++k) EXPECT_FALSE(odometry.StepRecord(k).direction_rejected) << k;
+  for (int k : {19, 25, kCount - 1}) {
+    EXPECT_LT((odometry.WorldFromCam(k).translation() - TrueWorldFromCam(k).translation()).norm(),
+              0.003)
+        << k;
+  }
+}
+
+TEST_F(KeyframeOdometryTest, ACrawlerThatStandsStillKeepsItsPlace) {
+  // Key frames 15-19 stand where 14 stood; their relative poses' translations are noise.
+  station_ = [](int k) { return k < 15 ? k : (k < 20 ? 14 : k - 5); };
+  constexpr int kCount = 30;
+  KeyframeOdometry odometry(camera_, options_);
+  for (int k = 0; k < kCount; ++k) odometry.Add(Keyframe(k), Straight(k, kCount));
+  for (int k = 1; k < kCount; ++k) {
+    const bool still = k >= 15 && k < 20;
+    EXPECT_EQ(odometry.StepRecord(k).stationary, still) << k;
+    EXPECT_FALSE(odometry.StepRecord(k).direction_rejected) << k;
+  }
+  for (int k = 15; k < 20; ++k) {
+    EXPECT_LT(
+        (odometry.WorldFromCam(k).translation() - odometry.WorldFromCam(14).translation()).norm(),
+        0.001)
+        << k;
+  }
+  EXPECT_LT(
+      (odometry.WorldFromCam(kCount - 1).translation() - TrueWorldFromCam(kCount - 1).translation())
+          .norm(),
+      0.003);
 }
 
 }  // namespace

@@ -217,6 +217,7 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
     keyframe.world_from_cam = odometry.WorldFromCam(k);
     keyframe.points_used = odometry.StepRecord(k).points_used;
     keyframe.direction_rejected = odometry.StepRecord(k).direction_rejected;
+    keyframe.stationary = odometry.StepRecord(k).stationary;
   }
   result.windows = odometry.windows();
   result.points = odometry.Points();

@@ -53,6 +53,7 @@ struct FisheyeKeyframe {
   int matches_guided = 0;
   int points_used = 0;              // triangulated points seen that fixed the relative scale
   bool direction_rejected = false;  // translation off the recent direction: motion continued
+  bool stationary = false;          // no parallax: the camera stood still
   double median_flow_px = 0.0;
   int section = 0;
   Eigen::Isometry3d world_from_cam = Eigen::Isometry3d::Identity();

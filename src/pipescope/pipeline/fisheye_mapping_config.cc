@@ -115,6 +115,10 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           [](O& o) -> double& { return o.odometry.max_step_direction_change_deg; }, 0.0, 90.0,
           "deg", "a translation further off the recent direction is rejected"),
       Number<O>(
+          "stationary_parallax_rad",
+          [](O& o) -> double& { return o.odometry.stationary_parallax_rad; }, 0.0, 0.5, "rad",
+          "a key-frame step with less median parallax stood still"),
+      Number<O>(
           "max_step_change", [](O& o) -> double& { return o.odometry.max_step_change; }, 1.0, 100.0,
           "", "a step length more than this factor off the recent speed is not taken"),
       Number<O>(
