@@ -16,6 +16,13 @@
 namespace pipescope {
 namespace {
 
+// The angle between a feature's bearings in two key frames once their relative rotation
+// (cam_this_from_cam_previous) is taken out: what the translation moved it.
+double Parallax(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& previous_bearing,
+                const Eigen::Vector3d& bearing) {
+  return std::acos(std::clamp(previous_bearing.dot(rotation.transpose() * bearing), -1.0, 1.0));
+}
+
 // The key frame's pose refined on the reprojection errors of the already triangulated points
 // (Huber), the points held fixed.
 void RefinePose(const Camera& camera, const std::vector<Eigen::Vector3d>& points,
@@ -126,17 +133,15 @@ void KeyframeOdometry::EstimatePose(int k) {
   std::vector<Eigen::Vector2d> pixels;
   for (const TrackedFeature& feature : keyframe.features) {
     const Track& track = tracks_[feature.track_id];
-    if (track.observations.size() < 2) continue;
-    const Observation& previous = track.observations[track.observations.size() - 2];
-    if (previous.keyframe != k - 1) continue;
+    const Observation* previous_observation = InPreviousKeyframe(track, k);
+    if (!previous_observation) continue;
+    const Observation& previous = *previous_observation;
     if (track.has_point) {
       points.push_back(track.point);
       pixels.emplace_back(feature.pixel.x, feature.pixel.y);
     }
     double depth_i, depth_j;
-    const double parallax = std::acos(
-        std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0));
-    if (parallax <= options_.min_scale_parallax_rad ||
+    if (Parallax(rotation, previous.bearing, feature.bearing) <= options_.min_scale_parallax_rad ||
         !TriangulateDepthsMidpoint(rotation, direction, previous.bearing, feature.bearing, &depth_i,
                                    &depth_j) ||
         depth_i <= 0 || depth_j <= 0) {
@@ -198,6 +203,14 @@ void KeyframeOdometry::EstimatePose(int k) {
   }
 }
 
+// The track's observation in key frame k - 1, when the track goes on into key frame k.
+const KeyframeOdometry::Observation* KeyframeOdometry::InPreviousKeyframe(const Track& track,
+                                                                          int k) {
+  if (track.observations.size() < 2) return nullptr;
+  const Observation& previous = track.observations[track.observations.size() - 2];
+  return previous.keyframe == k - 1 ? &previous : nullptr;
+}
+
 // Median over key frame k's features tracked from key frame k-1 of the angle between their two
 // bearings with the relative rotation taken out: what the translation moved them; infinite
 // without any such feature (nothing shows that the camera stood still).
@@ -206,12 +219,8 @@ double KeyframeOdometry::MedianParallax(int k) const {
   const Eigen::Matrix3d& rotation = keyframe.relative_pose.rotation;
   std::vector<double> parallax;
   for (const TrackedFeature& feature : keyframe.features) {
-    const Track& track = tracks_.at(feature.track_id);
-    if (track.observations.size() < 2) continue;
-    const Observation& previous = track.observations[track.observations.size() - 2];
-    if (previous.keyframe != k - 1) continue;
-    parallax.push_back(std::acos(
-        std::clamp(previous.bearing.dot(rotation.transpose() * feature.bearing), -1.0, 1.0)));
+    const Observation* previous = InPreviousKeyframe(tracks_.at(feature.track_id), k);
+    if (previous) parallax.push_back(Parallax(rotation, previous->bearing, feature.bearing));
   }
   return parallax.empty() ? std::numeric_limits<double>::infinity() : UpperMedian(parallax);
 }

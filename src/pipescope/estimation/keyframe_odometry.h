@@ -159,6 +159,7 @@ class KeyframeOdometry {
   void EstimatePose(int k);
   Eigen::Vector3d ReferenceDirection() const;
   double MedianParallax(int k) const;
+  static const Observation* InPreviousKeyframe(const Track& track, int k);
   double PathLength(int first, int last) const;
   static double PathLength(const std::vector<Eigen::Isometry3d>& cam_from_world);
   double MaxSpeedOverMedian(const std::vector<Eigen::Isometry3d>& cam_from_world, int first) const;

@@ -189,13 +189,17 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
   }
   std::vector<std::unique_ptr<DenseAppearanceAccumulator>> accumulators(pieces.size());
   std::vector<bool> finished(pieces.size(), false);
-  const auto finish = [&](int p) {
-    if (!accumulators[p]) {  // no frame read: an empty map
+  // A piece's accumulator, made when first needed (a piece no frame was read for: an empty map).
+  const auto accumulator = [&](int p) -> DenseAppearanceAccumulator& {
+    if (!accumulators[p]) {
       accumulators[p] =
           std::make_unique<DenseAppearanceAccumulator>(pieces[p].cylinder, options.appearance);
     }
-    pieces[p].keyframes_used = accumulators[p]->num_key_frames();
-    pieces[p].map = accumulators[p]->Result();
+    return *accumulators[p];
+  };
+  const auto finish = [&](int p) {
+    pieces[p].keyframes_used = accumulator(p).num_key_frames();
+    pieces[p].map = accumulator(p).Result();
     accumulators[p].reset();
     if (open_inside[p]) RemoveCellsInside(*open_inside[p], &pieces[p].map);
     finished[p] = true;
@@ -225,11 +229,7 @@ std::vector<DenseMapPiece> BuildDenseMap(const DatasetManifest& manifest, const 
     }
     const Eigen::Isometry3d cam_from_world = route.world_from_cam[k].inverse();
     for (const int p : pieces_of_keyframe[k]) {
-      if (!accumulators[p]) {
-        accumulators[p] =
-            std::make_unique<DenseAppearanceAccumulator>(pieces[p].cylinder, options.appearance);
-      }
-      accumulators[p]->AddKeyFrame(camera, cam_from_world, grey);
+      accumulator(p).AddKeyFrame(camera, cam_from_world, grey);
       if (last_frame[p] == static_cast<int>(frame->index)) finish(p);
     }
   }
