@@ -145,8 +145,8 @@ void TubularEkf::Predict(double dt) {
   covariance_.topLeftCorner<12, 12>() += noise_map * impulse * noise_map.transpose();
 }
 
-int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin,
-                             const Eigen::Vector3d& direction) const {
+int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                             double* range_out) const {
   // The chain: section i covers its axis from its junction with i - 1 to its junction with
   // i + 1; the first and last are open-ended. Start at the camera's section.
   const int count = static_cast<int>(sections_.size());
@@ -176,18 +176,28 @@ int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin,
     if (i + 1 < count && along > section.AxialCoordinate(junction(i + 1))) continue;
     const double range = std::abs(section.axis.dot(point - origin));
     if (range > options_.max_range_radii * section.Radius()) return -1;
+    if (range_out != nullptr) *range_out = range;
     return i;
   }
   return -1;
 }
 
+double TubularEkf::InnovationVariance(double range, double radius) const {
+  const double base = 2.0 * options_.pixel_sigma * options_.pixel_sigma;
+  if (options_.far_feature_radii <= 0.0) return base;
+  const double relative = range / (options_.far_feature_radii * radius);
+  return base * (1.0 + relative * relative * relative * relative);
+}
+
 bool TubularEkf::PredictPixel(const Eigen::Vector3d& previous_bearing, Eigen::Vector2d* pixel,
-                              Eigen::MatrixXd* jacobian) const {
+                              Eigen::MatrixXd* jacobian, double* variance) const {
   const Eigen::Vector3d origin = previous_position_;
   const Eigen::Vector3d direction = previous_rotation_ * previous_bearing;
-  const int section_index = SectionOfRay(origin, direction);
+  double range = 0.0;
+  const int section_index = SectionOfRay(origin, direction, &range);
   if (section_index < 0) return false;
   const TubeSection& section = sections_[section_index].geometry;
+  if (variance != nullptr) *variance = InnovationVariance(range, section.Radius());
   const Eigen::Matrix<double, 3, 2>& basis = sections_[section_index].basis;
 
   Jet e[kLocalSize];
@@ -278,21 +288,21 @@ TubularEkfUpdate TubularEkf::Update(const std::vector<TubularEkfMatch>& matches)
   TubularEkfUpdate update;
   update.matches = static_cast<int>(matches.size());
   const int n = StateSize();
-  // Both frames' localisation noise reaches the innovation.
-  const double variance = 2.0 * options_.pixel_sigma * options_.pixel_sigma;
 
-  // Gate each feature against the prediction (first linearisation).
+  // Gate each feature against the prediction (first linearisation), which also fixes its
+  // innovation variance for this update.
   std::vector<int> used;
+  std::vector<double> variance(matches.size(), 0.0);
   Eigen::Vector2d pixel;
   Eigen::MatrixXd jacobian;
   for (int i = 0; i < update.matches; ++i) {
-    if (!PredictPixel(matches[i].previous_bearing, &pixel, &jacobian)) {
+    if (!PredictPixel(matches[i].previous_bearing, &pixel, &jacobian, &variance[i])) {
       ++update.unplaced;
       continue;
     }
     const Eigen::Vector2d innovation = matches[i].pixel - pixel;
     const Eigen::Matrix2d s =
-        jacobian * covariance_ * jacobian.transpose() + variance * Eigen::Matrix2d::Identity();
+        jacobian * covariance_ * jacobian.transpose() + variance[i] * Eigen::Matrix2d::Identity();
     const double nis = innovation.dot(s.ldlt().solve(innovation));
     if (nis > options_.gate_chi2) {
       ++update.gated;
@@ -318,6 +328,8 @@ TubularEkfUpdate TubularEkf::Update(const std::vector<TubularEkfMatch>& matches)
   const int m = 2 * update.used;
   Eigen::MatrixXd h(m, n);
   Eigen::VectorXd residual(m);
+  Eigen::VectorXd noise(m);  // the diagonal of R
+  for (int k = 0; k < update.used; ++k) noise.segment<2>(2 * k).setConstant(variance[used[k]]);
   Eigen::VectorXd correction = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd gain;
   std::vector<char> placed(update.used, 1);
@@ -336,7 +348,7 @@ TubularEkfUpdate TubularEkf::Update(const std::vector<TubularEkfMatch>& matches)
     }
     const Eigen::MatrixXd ph = covariance_ * h.transpose();
     Eigen::MatrixXd s = h * ph;
-    s.diagonal().array() += variance;
+    s.diagonal() += noise;
     gain = s.ldlt().solve(ph.transpose()).transpose();
     correction = gain * (residual + h * correction);
     RestoreNominal(prior);
@@ -344,7 +356,8 @@ TubularEkfUpdate TubularEkf::Update(const std::vector<TubularEkfMatch>& matches)
   }
   // Joseph form: P = (I - K H) P (I - K H)^T + K R K^T.
   const Eigen::MatrixXd i_kh = Eigen::MatrixXd::Identity(n, n) - gain * h;
-  covariance_ = i_kh * covariance_ * i_kh.transpose() + variance * gain * gain.transpose();
+  covariance_ =
+      i_kh * covariance_ * i_kh.transpose() + gain * noise.asDiagonal() * gain.transpose();
   covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
 
   // Statistics of the posterior residuals.
@@ -354,7 +367,7 @@ TubularEkfUpdate TubularEkf::Update(const std::vector<TubularEkfMatch>& matches)
     if (!PredictPixel(matches[used[k]].previous_bearing, &pixel, nullptr)) continue;
     const Eigen::Vector2d innovation = matches[used[k]].pixel - pixel;
     squared_sum += innovation.squaredNorm();
-    nis_sum += innovation.squaredNorm() / variance;
+    nis_sum += innovation.squaredNorm() / variance[used[k]];
     ++counted;
   }
   update.mean_nis = counted > 0 ? nis_sum / counted : 0.0;

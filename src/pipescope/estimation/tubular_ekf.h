@@ -45,6 +45,12 @@ struct TubularEkfOptions {
   // Features whose wall point is farther along the section than this (radii) are not used: far
   // down a forward view they carry little parallax and most of a bend's misfit.
   double max_range_radii = 6.0;
+  // A straight section misplaces the wall of a bend ahead by the bend's sagitta, which grows with
+  // the square of the range; so a feature's pixel sigma grows alike: times
+  // sqrt(1 + (range / (far_feature_radii * radius))^4). Near features count fully, far ones pin
+  // the axis of a straight leg (a kink needs them) without pulling a bend's turn short. 0 = every
+  // feature gets pixel_sigma.
+  double far_feature_radii = 2.0;
   // Initial uncertainty of the velocities.
   double initial_speed_sigma = 0.5;          // m/s
   double initial_angular_speed_sigma = 1.0;  // rad/s
@@ -152,8 +158,13 @@ class TubularEkf {
   // The pixel at which a bearing of the previous frame is predicted in this one, and its
   // Jacobian with respect to the error state (2 x StateSize()); false when it meets no wall.
   // Public for the finite-difference test.
+  // `variance`, when given, receives the variance of each innovation coordinate of this feature
+  // (InnovationVariance).
   bool PredictPixel(const Eigen::Vector3d& previous_bearing, Eigen::Vector2d* pixel,
-                    Eigen::MatrixXd* jacobian) const;
+                    Eigen::MatrixXd* jacobian, double* variance = nullptr) const;
+  // The variance of one innovation coordinate (both frames' localisation) of a feature whose
+  // wall point lies `range` metres ahead on a section of radius `radius` (far_feature_radii).
+  double InnovationVariance(double range, double radius) const;
   // Applies an error-state correction (size StateSize()); public for the same test.
   void Inject(const Eigen::VectorXd& delta);
 
@@ -178,7 +189,9 @@ class TubularEkf {
   void RestoreNominal(const Nominal& nominal);
   // The section a previous-frame feature's wall point lies on: the newest whose start is behind
   // it. -1 when the ray meets no wall or the point lies beyond the range.
-  int SectionOfRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+  // `range` receives the wall point's distance ahead along the section's axis.
+  int SectionOfRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                   double* range = nullptr) const;
   int StateOffsetOfSection(int section) const;
   // Starts a section when the current one has stopped explaining the features; true if it did.
   bool MaybeStartSection(const TubularEkfUpdate& update);

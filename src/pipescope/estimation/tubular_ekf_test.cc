@@ -105,6 +105,25 @@ TEST(TubularEkf, ObservationJacobianMatchesFiniteDifferences) {
   EXPECT_GE(checked, 10);
 }
 
+TEST(TubularEkf, FarFeaturesCountLessWithTheSquareOfTheirRange) {
+  const Camera camera = ForwardCamera();
+  TubularEkfOptions options;
+  options.pixel_sigma = 0.5;
+  options.far_feature_radii = 2.0;
+  const double radius = 0.1;
+  const TubularEkf filter(camera, Eigen::Isometry3d::Identity(), Eigen::Vector3d::UnitZ(), radius,
+                          options);
+  const double base = 2.0 * 0.5 * 0.5;  // both frames' localisation
+  EXPECT_DOUBLE_EQ(filter.InnovationVariance(0.0, radius), base);
+  // At 2 radii the variance doubles; at 4 radii it is 1 + 2^4 = 17 times.
+  EXPECT_DOUBLE_EQ(filter.InnovationVariance(0.2, radius), 2.0 * base);
+  EXPECT_NEAR(filter.InnovationVariance(0.4, radius), 17.0 * base, 1e-12);
+  options.far_feature_radii = 0.0;
+  const TubularEkf plain(camera, Eigen::Isometry3d::Identity(), Eigen::Vector3d::UnitZ(), radius,
+                         options);
+  EXPECT_DOUBLE_EQ(plain.InnovationVariance(0.4, radius), base);
+}
+
 // Wall points of a chain of straight cylinders (the true tube), a camera carried along it, and
 // the matches an ideal tracker would give (exact projections plus noise).
 struct SyntheticTube {

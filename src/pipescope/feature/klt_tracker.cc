@@ -12,7 +12,7 @@ std::vector<KltPair> KltTracker::Track(const cv::Mat& grey8) {
   std::vector<KltPair> pairs;
   const cv::Size window(options_.window_px, options_.window_px);
   std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(grey8, pyramid, window, options_.pyramid_levels);
+  cv::buildOpticalFlowPyramid(TrackedImage(grey8), pyramid, window, options_.pyramid_levels);
   if (!points_.empty()) {
     std::vector<cv::Point2f> forward, backward;
     std::vector<unsigned char> status_forward, status_backward;
@@ -47,6 +47,25 @@ std::vector<KltPair> KltTracker::Track(const cv::Mat& grey8) {
   previous_pyramid_ = std::move(pyramid);
   previous_ = grey8;
   return pairs;
+}
+
+cv::Mat KltTracker::TrackedImage(const cv::Mat& grey8) const {
+  const double sigma = options_.flat_field_sigma_px;
+  if (sigma <= 0.0) return grey8;
+  cv::Mat grey;
+  grey8.convertTo(grey, CV_32F);
+  // The shading is smooth: blur a quarter-size copy and bring it back, a sixteenth of the cost of
+  // a full-size blur with a kernel this wide.
+  const int shrink = sigma >= 8.0 ? 4 : 1;
+  cv::Mat small, shading;
+  cv::resize(grey, small, cv::Size(grey.cols / shrink, grey.rows / shrink), 0, 0, cv::INTER_AREA);
+  cv::GaussianBlur(small, small, cv::Size(), sigma / shrink);
+  cv::resize(small, shading, grey.size(), 0, 0, cv::INTER_LINEAR);
+  // Light times albedo: dividing by the shading leaves the albedo, at mid-grey (the floor keeps
+  // the unlit depth from amplifying its noise without bound).
+  cv::Mat albedo = 128.0 * grey / cv::max(shading, 4.0), tracked;
+  albedo.convertTo(tracked, CV_8U);
+  return tracked;
 }
 
 void KltTracker::TopUp(const cv::Mat& grey8) {

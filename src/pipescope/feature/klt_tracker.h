@@ -28,6 +28,14 @@ struct KltTrackerOptions {
   int border_px = 8;
   // Pixels darker than this (grey levels) take no new corners: the unlit depth of a forward view.
   double min_grey = 12.0;
+  // Lucas-Kanade tracks a flat-fielded image: the frame divided by its Gaussian blur of this
+  // sigma (px; 0 = the frame itself). The lights move with the camera, so the wall's shading
+  // stays where it is in the image while the texture moves; where the gain mask does not cancel
+  // it (a forward view of a bend, a camera off the axis) it drags every track towards zero flow.
+  // On the rendered tube-bend the tracks fell 0.06-0.09 px a frame short of the true flow in
+  // the bend; with the shading taken out, within 0.01 px (docs/ekf.md). The sigma must exceed
+  // the texture's scale: the low frequencies it removes are lost to the tracker.
+  double flat_field_sigma_px = 0.0;
 };
 
 struct KltPair {
@@ -46,6 +54,8 @@ class KltTracker {
 
  private:
   void TopUp(const cv::Mat& grey8);
+  // What Lucas-Kanade tracks: `grey8` flat-fielded (flat_field_sigma_px), CV_8U.
+  cv::Mat TrackedImage(const cv::Mat& grey8) const;
 
   KltTrackerOptions options_;
   std::vector<cv::Mat> previous_pyramid_;

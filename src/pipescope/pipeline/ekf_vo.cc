@@ -72,7 +72,12 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
 
   EkfVoResult result;
   result.metric = options.metric;
-  KltTracker tracker(options.tracker);
+  KltTrackerOptions tracker_options = options.tracker;
+  const double flat_field_share = options.flat_field_width_share >= 0.0
+                                      ? options.flat_field_width_share
+                                      : (options.axis_along_tube == "z" ? 0.05 : 0.0);
+  tracker_options.flat_field_sigma_px = flat_field_share * camera.Width();
+  KltTracker tracker(tracker_options);
   std::optional<TubularEkf> filter;
   std::vector<Eigen::Isometry3d> world_poses;
   std::vector<std::size_t> pose_frames;  // index into result.frames of each pose

@@ -24,6 +24,13 @@ struct EkfVoOptions {
   // tube (004's set-up), "x", "y" for a camera looking at the wall (000's; the sign does not
   // matter to a cylinder).
   std::string axis_along_tube = "z";
+  // Lucas-Kanade tracks each frame divided by its blur of this sigma, as a share of the image
+  // width (KltTrackerOptions::flat_field_sigma_px); -1 = by the view: a twentieth for a camera
+  // looking down the tube, whose gain mask (made in a straight tube, on the axis) leaves the
+  // shading of a bend or an offset camera, and none for a wall-looking camera, whose gain mask
+  // cancels the shading and whose narrow view's coarse texture needs the low frequencies
+  // (docs/ekf.md).
+  double flat_field_width_share = -1.0;
   // Use the dataset's radius as the prior on the first section's log rho (metric run); false:
   // the run is up to scale (radius 1).
   bool metric = true;

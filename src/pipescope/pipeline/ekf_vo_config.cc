@@ -33,6 +33,11 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
           "min_grey", [](O& o) -> double& { return o.tracker.min_grey; }, 0.0, 255.0, "grey",
           "tracking: no new features on pixels darker than this"),
       Number<O>(
+          "flat_field_width_share", [](O& o) -> double& { return o.flat_field_width_share; }, -1.0,
+          1.0, "",
+          "tracking: Lucas-Kanade tracks the frame over its blur of this sigma (share of the "
+          "width; 0 = the frame; -1 = a twentieth looking down the tube, 0 at the wall)"),
+      Number<O>(
           "linear_acceleration_sigma",
           [](O& o) -> double& { return o.filter.linear_acceleration_sigma; }, 1e-6, 1000.0, "m/s^2",
           "filter: linear acceleration noise (004 eq. 6)"),
@@ -55,6 +60,10 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
       Number<O>(
           "max_range_radii", [](O& o) -> double& { return o.filter.max_range_radii; }, 0.1, 1000.0,
           "radii", "filter: features farther along the tube are not used"),
+      Number<O>(
+          "far_feature_radii", [](O& o) -> double& { return o.filter.far_feature_radii; }, 0.0,
+          1000.0, "radii",
+          "filter: a feature's pixel sigma grows with the square of its range past this (0 = no)"),
       Number<O>(
           "initial_speed_sigma", [](O& o) -> double& { return o.filter.initial_speed_sigma; }, 1e-6,
           100.0, "m/s", "filter: initial uncertainty of the speed"),
