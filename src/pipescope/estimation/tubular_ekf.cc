@@ -62,7 +62,7 @@ TubularEkf::TubularEkf(const Camera& camera, const Eigen::Isometry3d& world_from
   TubularEkfSection first;
   first.geometry.start = position_;
   first.geometry.axis = (rotation_ * axis_in_camera.normalized()).normalized();
-  first.geometry.log_radius = std::log(radius);
+  first.geometry.log_radius = prior_log_radius_ = std::log(radius);
   first.reason = "start";
   first.basis = OrthogonalBasis(first.geometry.axis);
   sections_.push_back(first);
@@ -483,9 +483,9 @@ void TubularEkf::StartSection(double junction, double travel, const std::string&
           (ExpRotation(fraction * turn_axis_angle) * next.geometry.axis).normalized();
     }
   }
-  // From the first section's radius (the dataset's prior), not the previous section's, so that a
-  // misfit cannot pass from section to section.
-  next.geometry.log_radius = sections_.front().geometry.log_radius;
+  // The dataset's radius, the same prior as the first section's: a pipe keeps its radius, and a
+  // section estimated from the one before would pass a misfit down the chain.
+  next.geometry.log_radius = prior_log_radius_;
   next.geometry.start = current.start + junction * current.axis;
   next.first_frame = updates_;
   next.reason = reason;

@@ -87,12 +87,15 @@ struct TubularEkfOptions {
   // filter then corrects a guess centred on the curve rather than lagging behind it.
   bool extrapolate_turn = true;
   // A new section's initial uncertainty: its start across the axis (radii), its axis direction,
-  // its relative radius. Its radius is estimated, not held to the prior. (Holding the start
-  // to the junction, 0.002 radii, turns bends 3-5 degrees further but shortens the distance
-  // through them by 2-5 %: docs/ekf.md.)
+  // its relative radius about the radius given at the start (the dataset's: a pipe keeps its
+  // radius). The radius is estimated with that prior; left freer (0.05), the straight sections
+  // fitted to a bend come out narrow (its outer wall ahead closes in on their axes), and since
+  // the radius sets the scale, the distance through the bend short: 3-9 % on tube-bend
+  // (docs/ekf.md). (Holding the start to the junction, 0.002 radii, turns bends further but
+  // shortens the distance through them: docs/ekf.md.)
   double new_section_offset_sigma_radii = 0.05;
   double new_section_axis_sigma_rad = 0.15;
-  double new_section_radius_sigma = 0.05;
+  double new_section_radius_sigma = 0.01;
   // Sections kept in the state; older ones are frozen (dropped from the state with their last
   // estimate) so the filter's size stays bounded however long the tube.
   int max_active_sections = 5;
@@ -225,6 +228,7 @@ class TubularEkf {
   Eigen::MatrixXd covariance_;
   int updates_ = 0;
   int unexplained_run_ = 0;
+  double prior_log_radius_ = 0.0;  // the radius given at the start (the dataset's)
 };
 
 // Two unit vectors orthogonal to `axis` and to each other: the directions in which a section's

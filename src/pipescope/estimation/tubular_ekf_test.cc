@@ -295,9 +295,10 @@ TEST(TubularEkf, StartsASecondSectionWhereTheTubeTurns) {
   const Eigen::Vector3d& last_axis = filter.Sections().back().geometry.axis;
   const double axis_error_deg = std::acos(std::min(1.0, last_axis.dot(second.axis))) * 180.0 / M_PI;
   EXPECT_LT(axis_error_deg, 2.0);
-  // Measured: 36 mm after 1.4 m (2.6 %), most of it the second section's radius 3 % short; the
-  // straight tube above stays within 3 mm. docs/ekf.md discusses it.
-  EXPECT_LT((filter.WorldFromCam().translation() - pose_at(frames).translation()).norm(), 0.05);
+  // Measured: the second leg's axis 1.9 degrees off and the camera 25 mm off after 1.4 m (1.8 %);
+  // with the new sections' radius freer (new_section_radius_sigma 0.05) 0.1 degrees and 35 mm,
+  // the second section's radius 3 % short. The straight tube above stays within 3 mm.
+  EXPECT_LT((filter.WorldFromCam().translation() - pose_at(frames).translation()).norm(), 0.035);
 }
 
 }  // namespace

@@ -119,7 +119,7 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
       Number<O>(
           "new_section_radius_sigma",
           [](O& o) -> double& { return o.filter.new_section_radius_sigma; }, 1e-6, 1.0, "",
-          "sections: initial relative uncertainty of a new section's radius"),
+          "sections: relative sigma of a new section's radius about the dataset's"),
       Number<O>(
           "max_active_sections", [](O& o) -> int& { return o.filter.max_active_sections; }, 1, 100,
           "", "sections: kept in the filter's state; older ones are frozen"),
