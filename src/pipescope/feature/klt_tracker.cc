@@ -8,6 +8,17 @@ namespace pipescope {
 
 KltTracker::KltTracker(const KltTrackerOptions& options) : options_(options) {}
 
+void KltTracker::SetViewMask(const cv::Mat& view_mask) {
+  if (view_mask.empty()) {
+    inner_view_ = cv::Mat();
+    return;
+  }
+  const int half = options_.window_px / 2 + 1;
+  cv::erode(view_mask != 0, inner_view_,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * half + 1, 2 * half + 1)),
+            cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+}
+
 std::vector<KltPair> KltTracker::Track(const cv::Mat& grey8) {
   std::vector<KltPair> pairs;
   const cv::Size window(options_.window_px, options_.window_px);
@@ -36,6 +47,9 @@ std::vector<KltPair> KltTracker::Track(const cv::Mat& grey8) {
         continue;
       }
       if (cv::norm(backward[i] - points_[i]) > options_.max_round_trip_px) continue;
+      if (!inner_view_.empty() && inner_view_.at<uchar>(cvRound(p.y), cvRound(p.x)) == 0) {
+        continue;
+      }
       pairs.push_back({points_[i], p, ids_[i]});
       kept.push_back(p);
       kept_ids.push_back(ids_[i]);
@@ -76,6 +90,7 @@ void KltTracker::TopUp(const cv::Mat& grey8) {
   std::vector<int> count(cells, 0);
   cv::Mat mask(grey8.size(), CV_8U, cv::Scalar(255));
   mask.setTo(0, grey8 < options_.min_grey);
+  if (!inner_view_.empty()) mask.setTo(0, inner_view_ == 0);
   for (const cv::Point2f& p : points_) {
     const int cx = std::min(options_.grid_cols - 1, static_cast<int>(p.x) / cell_w);
     const int cy = std::min(options_.grid_rows - 1, static_cast<int>(p.y) / cell_h);

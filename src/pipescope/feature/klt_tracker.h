@@ -48,6 +48,12 @@ class KltTracker {
  public:
   explicit KltTracker(const KltTrackerOptions& options = {});
 
+  // The pixels the camera sees (CV_8U, non-zero; the frame's size). Outside a fisheye's image
+  // circle a frame holds only noise (which the gain mask multiplies), and corners found there
+  // track nothing on the wall. No corner is taken, and no track kept, within half a Lucas-Kanade
+  // window of the mask's edge. Empty (the default): every pixel.
+  void SetViewMask(const cv::Mat& view_mask);
+
   // Tracks the previous frame's corners into `grey8` (CV_8U) and returns the pairs that passed
   // the round trip; then tops the corners up for the next frame. The first call returns none.
   std::vector<KltPair> Track(const cv::Mat& grey8);
@@ -58,6 +64,7 @@ class KltTracker {
   cv::Mat TrackedImage(const cv::Mat& grey8) const;
 
   KltTrackerOptions options_;
+  cv::Mat inner_view_;  // SetViewMask's mask shrunk by half a window; empty = every pixel
   std::vector<cv::Mat> previous_pyramid_;
   cv::Mat previous_;
   std::vector<cv::Point2f> points_;

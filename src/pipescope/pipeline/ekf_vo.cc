@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "pipescope/feature/guided_zncc.h"
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/util/error.h"
@@ -21,6 +22,10 @@ Eigen::Vector3d AxisInCamera(const std::string& name) {
   if (name == "y") return Eigen::Vector3d::UnitY();
   throw InputError("axis_along_tube: unknown axis '" + name + "' (valid: z, x, y)");
 }
+
+// The share of the gain mask's brightest below which a pixel counts as unlit: the frame there,
+// divided by the mask, is mostly amplified noise.
+constexpr double kMinLitShare = 0.05;
 
 cv::Mat PreparedGrey(const cv::Mat& grey, const cv::Mat& gain_mask) {
   return gain_mask.empty() ? grey : ApplyGainMask(grey, gain_mask);
@@ -78,6 +83,12 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
                                       : (options.axis_along_tube == "z" ? 0.05 : 0.0);
   tracker_options.flat_field_sigma_px = flat_field_share * camera.Width();
   KltTracker tracker(tracker_options);
+  // Where the camera sees the lit wall: inside the model's field of view and where the gain mask
+  // is at least kMinLitShare of its brightest. A lens's image circle can be narrower than the
+  // model's reach (a 190-degree fisheye), and beyond it the gain correction multiplies noise.
+  cv::Mat view = BearingTable(camera, camera.MaxAngle()).valid_mask().clone();
+  if (!gain_mask.empty()) view.setTo(0, gain_mask < kMinLitShare);
+  tracker.SetViewMask(view);
   std::optional<TubularEkf> filter;
   std::vector<Eigen::Isometry3d> world_poses;
   std::vector<std::size_t> pose_frames;  // index into result.frames of each pose
@@ -132,9 +143,10 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
                          std::to_string(record.update.matches) + ")";
       }
       spdlog::trace(
-          "ekf: frame {}: {} features used, {} gated, mean NIS {:.2f}, track drift {:.2f} px",
-          frame->index, record.update.used, record.update.gated, record.update.mean_nis,
-          record.update.track_drift_px);
+          "ekf: frame {}: {} features used, {} unplaced, {} gated, mean NIS {:.2f}, track drift "
+          "{:.2f} px",
+          frame->index, record.update.used, record.update.unplaced, record.update.gated,
+          record.update.mean_nis, record.update.track_drift_px);
       if (record.update.spawned_section) {
         spdlog::debug("ekf: frame {}: new section {}: {}", frame->index,
                       filter->Sections().size() - 1, filter->Sections().back().reason);
