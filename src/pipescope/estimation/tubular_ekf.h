@@ -90,8 +90,8 @@ struct TubularEkfOptions {
   // its relative radius about the radius given at the start (the dataset's: a pipe keeps its
   // radius). The radius is estimated with that prior; left freer (0.05), the straight sections
   // fitted to a bend come out narrow (its outer wall ahead closes in on their axes), and since
-  // the radius sets the scale, the distance through the bend short: 3-9 % on tube-bend
-  // (docs/ekf.md). (Holding the start to the junction, 0.002 radii, turns bends further but
+  // the radius sets the scale, the distance through the bend short: 0.5-6.9 % on tube-bend's
+  // nine bend runs (docs/ekf.md). (Holding the start to the junction, 0.002 radii, turns bends further but
   // shortens the distance through them: docs/ekf.md.)
   double new_section_offset_sigma_radii = 0.05;
   double new_section_axis_sigma_rad = 0.15;

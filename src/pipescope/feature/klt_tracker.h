@@ -33,7 +33,7 @@ struct KltTrackerOptions {
   // stays where it is in the image while the texture moves; where the gain mask does not cancel
   // it (a forward view of a bend, a camera off the axis) it drags every track towards zero flow.
   // On the rendered tube-bend the tracks fell 0.06-0.09 px a frame short of the true flow in
-  // the bend; with the shading taken out, within 0.01 px (docs/ekf.md). The sigma must exceed
+  // the bend; with the shading taken out, within 0.015 px (docs/ekf.md). The sigma must exceed
   // the texture's scale: the low frequencies it removes are lost to the tracker.
   double flat_field_sigma_px = 0.0;
 };
