@@ -5,6 +5,7 @@
 #include "pipescope/estimation/wall_distance_observability.h"
 #include "pipescope/geometry/camera_mount.h"
 #include "pipescope/image/undistortion.h"
+#include "pipescope/pipeline/wall_distance_statement.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
@@ -19,9 +20,11 @@ constexpr double kForwardCameraHalfAngleDeg = 80.0;
 MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera& camera) {
   const double half_angle = ImageHalfAngleDeg(camera);
   if (half_angle > kForwardCameraHalfAngleDeg) {
-    return {"ekf", fmt::format("a {:.0f}-degree lens looks down the pipe: the tubular EKF (004); "
-                               "`pipescope map` maps networks with it (001)",
-                               2.0 * half_angle)};
+    return {"ekf",
+            fmt::format("a {:.0f}-degree lens looks down the pipe: the tubular EKF (004); "
+                        "`pipescope map` maps networks with it (001)",
+                        2.0 * half_angle),
+            "", "z"};
   }
   if (!manifest.inner_radius_m) {
     throw InputError(ManifestName(manifest) +
@@ -31,21 +34,21 @@ MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera&
   const double radius = *manifest.inner_radius_m;
   const bool has_reference_scale =
       manifest.reference_scale_px_per_m && *manifest.reference_scale_px_per_m > 0.0;
-  double wall_distance = has_reference_scale
-                             ? CentralFocalLengthPx(camera) / *manifest.reference_scale_px_per_m
-                             : radius;
-  if (!(wall_distance < 2.0 * radius)) wall_distance = radius;
   const WallDistanceObservability view = AssessWallDistanceObservability(
-      camera, MountedStartPose(CameraMount{}, radius, wall_distance), radius);
+      camera,
+      MountedStartPose(CameraMount{}, radius, NominalStartWallDistance(manifest, camera, radius)),
+      radius);
   if (view.observable) {
-    // docs/conditions.md: sparse follows the wander (6-inch legs 0.06 % against the dense
-    // methods' 1.7 %) but loses weak, noisy texture, where dense-unrolled stays within 0.2 %.
-    return {"sparse",
-            fmt::format("this wall view sees the wall's curvature ({:.2f} % of scale per pair of "
-                        "views), so sparse measures the crawler's distance to the wall instead of "
-                        "assuming it",
-                        view.scale_sigma_pct),
-            has_reference_scale ? kNarrowViewMethod : ""};
+    // docs/conditions.md: on the 6-inch pipe the filter follows the wander (legs within
+    // 0.08 %) and keeps its legs under the sheen (0.25 %), where sparse reaches 0.47 %; both
+    // lose weak, noisy texture and say so, where dense-unrolled stays within 0.2 %.
+    return {
+        "ekf",
+        fmt::format("this wall view sees the wall's curvature ({:.2f} % of scale per pair of "
+                    "views), so the tubular EKF (004) measures the camera's place in the pipe "
+                    "instead of assuming it; the best over the conditions matrix for such views",
+                    view.scale_sigma_pct),
+        has_reference_scale ? kNarrowViewMethod : "sparse", "x"};
   }
   if (!has_reference_scale) {
     return {"sparse",
@@ -53,13 +56,15 @@ MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera&
                         "pair of views) and the dense methods need reference_scale_px_per_m, "
                         "which the dataset lacks: sparse, taking the camera to be on the pipe's "
                         "axis",
-                        view.scale_sigma_pct)};
+                        view.scale_sigma_pct),
+            "", ""};
   }
   return {kNarrowViewMethod,
           fmt::format("this wall view cannot measure the wall distance ({:.2f} % of scale per pair "
                       "of views): {}, the best over the conditions matrix for narrow views "
                       "(docs/conditions.md)",
-                      view.scale_sigma_pct, kNarrowViewMethod)};
+                      view.scale_sigma_pct, kNarrowViewMethod),
+          "", ""};
 }
 
 }  // namespace pipescope

@@ -3,6 +3,7 @@
 // bad input exits 2 naming the culprit and leaves no run directory behind.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -91,7 +92,7 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
 
 // Without --method the set-up picks it (docs/conditions.md): the 16-inch pipe's 25-degree view
 // cannot measure its wall distance, so a dense method; the 6-inch pipe's 70-degree view can, so
-// sparse. run.json says which and why.
+// the tubular EKF with the pipe along image x. run.json says which and why.
 TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   const CommandResult narrow =
       RunPipescope("odometry " + Path("ds") + " --out " + Path("run-auto-narrow") + " --config " +
@@ -109,16 +110,21 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
                    " --frames 40 --set speed_m_s=0.03 --set width=512 --set height=384"
                    " --set white_card_count=2 -q");
   ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
-  const CommandResult wide = RunPipescope("odometry " + Path("ds6") + " --out " +
-                                          Path("run-auto-wide") + " --no-report -q");
-  ASSERT_EQ(wide.exit_status, 0) << wide.output;
-  const nlohmann::json wide_report =
-      nlohmann::json::parse(ReadTextFile(Path("run-auto-wide") + "/run.json"));
-  EXPECT_EQ(wide_report["method"], "sparse");
-  EXPECT_EQ(wide_report["method_choice"]["method"], "sparse");
-  EXPECT_EQ(wide_report["wall_distance"]["measured"], true);
-  EXPECT_EQ(wide_report["quality"]["verdict"], "reliable");
-  EXPECT_LT(wide_report["cross_section_excursion_m"].get<double>(), 0.25 * 0.07666);
+  const std::string wide = Path("run-auto-wide");
+  const CommandResult result =
+      RunPipescope("odometry " + Path("ds6") + " --out " + wide + " --no-report -q");
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const nlohmann::json report = nlohmann::json::parse(ReadTextFile(wide + "/run.json"));
+  EXPECT_EQ(report["method"], "ekf");
+  EXPECT_EQ(report["method_choice"]["method"], "ekf");
+  EXPECT_NE(report["method_choice"]["reason"].get<std::string>().find("curvature"),
+            std::string::npos)
+      << report["method_choice"].dump();
+  EXPECT_EQ(report["options"]["axis_along_tube"], "x");
+  EXPECT_EQ(report["quality"]["verdict"], "reliable") << report["quality"].dump();
+  const nlohmann::json metrics = nlohmann::json::parse(ReadTextFile(wide + "/metrics.json"));
+  EXPECT_LT(std::abs(metrics["distance_error_pct"].get<double>()), 1.0)
+      << metrics["distance_error_pct"];
 
   // A run whose camera strays farther across the pipe than the limit is called unreliable.
   const nlohmann::json tight_report =
@@ -146,9 +152,9 @@ TEST_F(OdometryCli, SparseOnANarrowViewDoubtsAnUnconfirmedExcursion) {
       << report["quality"].dump();
 }
 
-// When the chosen sparse run ends unreliable (here most frames are plain noise, so its tracks
-// are lost), odometry without --method runs dense-unrolled instead and says why.
-TEST_F(OdometryCli, WithoutMethodFallsBackWhenSparseIsUnreliable) {
+// When the chosen ekf run ends unreliable (here most frames are plain noise, so its tracks are
+// lost), odometry without --method runs dense-unrolled instead and says why.
+TEST_F(OdometryCli, WithoutMethodFallsBackWhenTheFilterIsUnreliable) {
   const std::string data = Path("ds6-plain");
   const CommandResult simulate =
       RunPipescope("simulate --preset steel-6in --out " + data +
@@ -171,9 +177,10 @@ TEST_F(OdometryCli, WithoutMethodFallsBackWhenSparseIsUnreliable) {
   const nlohmann::json report =
       nlohmann::json::parse(ReadTextFile(Path("run-fallback") + "/run.json"));
   EXPECT_EQ(report["method"], "dense-unrolled");
-  EXPECT_NE(report["method_choice"]["reason"].get<std::string>().find("sparse was tried first"),
-            std::string::npos)
-      << report["method_choice"].dump();
+  const std::string reason = report["method_choice"]["reason"].get<std::string>();
+  EXPECT_NE(reason.find("ekf was tried first"), std::string::npos) << reason;
+  // The filter updated on every frame; only its tracks' disagreement shows the failure.
+  EXPECT_NE(reason.find("the tracks disagree with the filter"), std::string::npos) << reason;
 }
 
 TEST_F(OdometryCli, BadInputExitsTwoAndNamesTheCulprit) {

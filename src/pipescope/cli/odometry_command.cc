@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "pipescope/cli/method_choice.h"
 #include "pipescope/cli/run_flags.h"
 #include "pipescope/cli/subcommand.h"
+#include "pipescope/geometry/camera_mount.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
 #include "pipescope/pipeline/dense_vo.h"
@@ -26,6 +28,7 @@
 #include "pipescope/pipeline/sparse_vo.h"
 #include "pipescope/pipeline/sparse_vo_config.h"
 #include "pipescope/pipeline/sparse_vo_verdict.h"
+#include "pipescope/pipeline/wall_distance_statement.h"
 #include "pipescope/report/run_directory.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
@@ -36,6 +39,8 @@ namespace {
 struct OdometryFlags : RunFlags {
   std::string method;
   std::string method_reason;  // set when --method was not given and the method was chosen
+  // The chosen ekf's axis along the tube (MethodChoice); a --config's axis_along_tube wins.
+  std::string axis_along_tube;
 };
 
 // run.json's method_choice when the method was chosen for the user.
@@ -243,6 +248,19 @@ nlohmann::json EkfInnovationJson(const EkfVoResult& result) {
 // run is called unreliable: three sigmas of the 1 % prior every section has. On tube-bend and the
 // straight set-ups the worst section is within 2.3 % (docs/ekf.md).
 constexpr double kEkfMaxRadiusDisagreement = 0.03;
+// Where a wall camera's view cannot measure its distance to the wall, an ekf run whose camera
+// strays more than this share of that distance across the pipe is unreliable, as a sparse run
+// is (SparseVoOptions::max_unobserved_excursion): on the 16-inch pipe's 25-degree view the
+// filter followed a 9.7 mm wander to 0.02-0.5 % on two seeds and ended 3.4 % off, calling itself
+// reliable, on a third (docs/conditions.md).
+constexpr double kEkfMaxUnobservedExcursion = 0.02;
+// Median over the updated frames of the tracks' mean normalised innovation squared (posterior)
+// above which the run is unreliable: twice the 2 a filter whose pixel_sigma describes its tracks
+// expects. Tracks that disagree with the filter by more than their assumed noise (texture too weak
+// or noisy to track, frames of plain noise) move the estimate where the images do not support it:
+// on weak, noisy wall texture 10.2 (a run 6.2 % off), on frames of plain noise 18.5 (65 % off);
+// the runs that held (wall cameras, tube-bend) stayed within 0.27 (docs/conditions.md).
+constexpr double kEkfMaxMedianNis = 4.0;
 // Turning of the chain (the sum of the angles between consecutive sections) above which the run
 // warns that it went through bends, whose angle a chain of straight sections only approximates.
 constexpr double kEkfBendWarningDeg = 10.0;
@@ -250,8 +268,10 @@ constexpr double kEkfBendWarningDeg = 10.0;
 double ChainTurnDeg(const std::vector<EkfSectionRecord>& sections) {
   double turn = 0.0;
   for (std::size_t i = 1; i < sections.size(); ++i) {
-    const double cosine = sections[i - 1].geometry.axis.dot(sections[i].geometry.axis);
-    turn += std::acos(std::clamp(cosine, -1.0, 1.0));
+    // An axis is a line: a section started on the way back of an out-and-back run points back
+    // along the same tube, which is no turn.
+    const double cosine = std::abs(sections[i - 1].geometry.axis.dot(sections[i].geometry.axis));
+    turn += std::acos(std::min(cosine, 1.0));
   }
   return turn * 180.0 / M_PI;
 }
@@ -266,6 +286,7 @@ std::string FormatPercent(double fraction) {
 int RunEkfOdometry(const OdometryFlags& flags) {
   DatasetManifest manifest = OpenRunDataset(flags);
   EkfVoOptions options;
+  if (!flags.axis_along_tube.empty()) options.axis_along_tube = flags.axis_along_tube;
   if (!flags.config.empty()) EkfVoOptionTable().ApplyYamlFile(flags.config, &options);
   const Camera camera = ReadCamera(manifest.camera_path);
   RunDirectory run(flags.out, "odometry", "ekf");
@@ -290,7 +311,8 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   report.Extra("failed_frames") = FailedFramesJson(result.frames);
   report.Extra("unreadable_frames") = result.skipped_frames;
   report.Extra("sections") = EkfSectionsJson(result);
-  report.Extra("innovation") = EkfInnovationJson(result);
+  const nlohmann::json innovation = EkfInnovationJson(result);
+  report.Extra("innovation") = innovation;
   report.Extra("centreline_length_m") = result.centreline.Length();
   // The distance the camera travelled along the tube: its last foot on the centreline from its
   // first.
@@ -301,6 +323,20 @@ int RunEkfOdometry(const OdometryFlags& flags) {
                     : "up to scale: the first section's radius is 1";
   if (!result.metric) {
     report.Warn("the run is up to scale (metric: false); distances are in units of the radius");
+  }
+  // A wall camera (the tube along image x or y): what it knows of its distance to the wall.
+  std::optional<WallDistanceStatement> wall_distance;
+  if (options.axis_along_tube != "z" && result.metric && manifest.inner_radius_m) {
+    const double radius = *manifest.inner_radius_m;
+    const bool has_reference_scale =
+        manifest.reference_scale_px_per_m && *manifest.reference_scale_px_per_m > 0.0;
+    wall_distance = MakeWallDistanceStatement(
+        camera, CameraMount{options.axis_along_tube}, radius,
+        NominalStartWallDistance(manifest, camera, radius),
+        has_reference_scale ? "reference_scale_px_per_m (estimated from the start on)"
+                            : "none given: estimated from the start on",
+        true);
+    ReportWallDistance(*wall_distance, "ekf", &report);
   }
   std::vector<FrameState> states;
   for (const EkfFrameRecord& frame : result.frames) {
@@ -333,6 +369,31 @@ int RunEkfOdometry(const OdometryFlags& flags) {
           " off the dataset's (worst: section " + std::to_string(worst) + ", " +
           FormatPercent(worst_off) + "): the tube model does not explain the images there");
     }
+  }
+  if (wall_distance && !WallDistanceMeasured(*wall_distance) && !result.trajectory.empty()) {
+    double excursion = 0.0;
+    for (const StampedPose& pose : result.trajectory) {
+      excursion = std::max(excursion,
+                           (pose.position - result.trajectory.front().position).head<2>().norm());
+    }
+    const double share = excursion / wall_distance->start_m;
+    report.Extra("cross_section_excursion_m") = excursion;
+    if (share > kEkfMaxUnobservedExcursion) {
+      model_reasons.push_back(fmt::format(
+          "this view cannot measure the camera's distance to the wall, and the estimated camera "
+          "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the "
+          "scale follows an excursion the images could not confirm",
+          1000.0 * excursion, 100.0 * share, 100.0 * kEkfMaxUnobservedExcursion));
+    }
+  }
+  const double median_nis = innovation["mean_nis_median"].get<double>();
+  if (median_nis > kEkfMaxMedianNis) {
+    model_reasons.push_back(fmt::format(
+        "the tracks disagree with the filter: their innovations are a median {:.1f} times the "
+        "variance its pixel_sigma ({:.2f} px) allows (limit {:.0f}; {:.2f} px rms): texture too "
+        "weak or noisy to track",
+        median_nis / 2.0, options.filter.pixel_sigma, kEkfMaxMedianNis / 2.0,
+        innovation["rms_px_median"].get<double>()));
   }
   // Not observable from inside the filter, so said.
   const double turn_deg = ChainTurnDeg(result.sections);
@@ -375,6 +436,7 @@ int RunOdometry(const OdometryFlags& flags) {
     OdometryFlags chosen = flags;
     chosen.method = choice.method;
     chosen.method_reason = choice.reason;
+    chosen.axis_along_tube = choice.axis_along_tube;
     // A --config names one method's keys, so only a run without one can fall back.
     if (choice.fallback.empty() || !flags.config.empty()) return RunOdometry(chosen);
     std::string why;

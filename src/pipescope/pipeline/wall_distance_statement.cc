@@ -4,9 +4,19 @@
 
 #include <utility>
 
+#include "pipescope/image/undistortion.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
+
+double NominalStartWallDistance(const DatasetManifest& manifest, const Camera& camera,
+                                double radius_m) {
+  if (!manifest.reference_scale_px_per_m || !(*manifest.reference_scale_px_per_m > 0.0)) {
+    return radius_m;
+  }
+  const double start_m = CentralFocalLengthPx(camera) / *manifest.reference_scale_px_per_m;
+  return start_m < 2.0 * radius_m ? start_m : radius_m;
+}
 
 WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const CameraMount& mount,
                                                 double radius_m, double start_m,

@@ -7,6 +7,7 @@
 #include "pipescope/camera/camera.h"
 #include "pipescope/estimation/wall_distance_observability.h"
 #include "pipescope/geometry/camera_mount.h"
+#include "pipescope/io/dataset.h"
 
 namespace pipescope {
 
@@ -20,6 +21,12 @@ struct WallDistanceStatement {
   // Unset without the pipe's radius (planar dense methods can run without it).
   std::optional<WallDistanceObservability> observability;
 };
+
+// The start camera's distance to the wall it faces (m) when no method measured it: the focal
+// length over the dataset's reference scale where that lies within the pipe's diameter, else the
+// radius (the camera on the axis).
+double NominalStartWallDistance(const DatasetManifest& manifest, const Camera& camera,
+                                double radius_m);
 
 // `start_from` names the source; `radius_m` 0: no observability.
 WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const CameraMount& mount,
