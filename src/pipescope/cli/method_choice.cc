@@ -24,7 +24,7 @@ MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera&
             fmt::format("a {:.0f}-degree lens looks down the pipe: the tubular EKF (004); "
                         "`pipescope map` maps networks with it (001)",
                         2.0 * half_angle),
-            "", "z"};
+            ""};
   }
   if (!manifest.inner_radius_m) {
     throw InputError(ManifestName(manifest) +
@@ -48,7 +48,7 @@ MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera&
                     "views), so the tubular EKF (004) measures the camera's place in the pipe "
                     "instead of assuming it; the best over the conditions matrix for such views",
                     view.scale_sigma_pct),
-        has_reference_scale ? kNarrowViewMethod : "sparse", "x"};
+        has_reference_scale ? kNarrowViewMethod : "sparse"};
   }
   if (!has_reference_scale) {
     return {"sparse",
@@ -57,14 +57,14 @@ MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera&
                         "which the dataset lacks: sparse, taking the camera to be on the pipe's "
                         "axis",
                         view.scale_sigma_pct),
-            "", ""};
+            ""};
   }
   return {kNarrowViewMethod,
           fmt::format("this wall view cannot measure the wall distance ({:.2f} % of scale per pair "
                       "of views): {}, the best over the conditions matrix for narrow views "
                       "(docs/conditions.md)",
                       view.scale_sigma_pct, kNarrowViewMethod),
-          "", ""};
+          ""};
 }
 
 }  // namespace pipescope

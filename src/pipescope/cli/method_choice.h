@@ -14,17 +14,13 @@ struct MethodChoice {
   std::string reason;
   // Run when `method` fails or ends unreliable (texture too weak to track); empty: none.
   std::string fallback;
-  // For "ekf": the camera axis that runs along the pipe ("z" looking down it; "x" for a wall
-  // camera, the wall methods' own mount, geometry/camera_mount.h).
-  std::string axis_along_tube;
 };
 
 // Wide-angle cameras (a half angle beyond 80 degrees: fisheyes looking down the pipe) get the
-// tubular EKF along the optical axis; wall cameras get the tubular EKF along image x where their
-// view sees the wall's curvature well enough to measure the wall distance
-// (WallDistanceObservability), falling back to `kNarrowViewMethod` (with a reference scale) or
-// `sparse` when its run is unreliable, and `kNarrowViewMethod` where it does not. Throws
-// InputError when the dataset lacks what every candidate needs.
+// tubular EKF; wall cameras get it too where their view sees the wall's curvature well enough to
+// measure the wall distance (WallDistanceObservability), falling back to `kNarrowViewMethod` (with
+// a reference scale) or `sparse` when its run is unreliable, and `kNarrowViewMethod` where it does
+// not. Throws InputError when the dataset lacks what every candidate needs.
 MethodChoice ChooseOdometryMethod(const DatasetManifest& manifest, const Camera& camera);
 
 }  // namespace pipescope

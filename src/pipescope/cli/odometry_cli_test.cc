@@ -92,7 +92,7 @@ TEST_F(OdometryCli, WritesTheRunDirectory) {
 
 // Without --method the set-up picks it (docs/conditions.md): the 16-inch pipe's 25-degree view
 // cannot measure its wall distance, so a dense method; the 6-inch pipe's 70-degree view can, so
-// the tubular EKF with the pipe along image x. run.json says which and why.
+// the tubular EKF, which finds the pipe along image x. run.json says which and why.
 TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   const CommandResult narrow =
       RunPipescope("odometry " + Path("ds") + " --out " + Path("run-auto-narrow") + " --config " +
@@ -120,7 +120,10 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   EXPECT_NE(report["method_choice"]["reason"].get<std::string>().find("curvature"),
             std::string::npos)
       << report["method_choice"].dump();
-  EXPECT_EQ(report["options"]["axis_along_tube"], "x");
+  // The filter measured the camera's direction of travel: along image x, across the optical axis.
+  EXPECT_EQ(report["options"]["axis_along_tube"], "auto");
+  EXPECT_EQ(report["axis_along_tube"], "x") << report["travel_direction"].dump();
+  EXPECT_EQ(report["wall_distance"]["method_measures"], true);
   EXPECT_EQ(report["quality"]["verdict"], "reliable") << report["quality"].dump();
   const nlohmann::json metrics = nlohmann::json::parse(ReadTextFile(wide + "/metrics.json"));
   EXPECT_LT(std::abs(metrics["distance_error_pct"].get<double>()), 1.0)

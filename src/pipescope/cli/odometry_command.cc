@@ -39,8 +39,6 @@ namespace {
 struct OdometryFlags : RunFlags {
   std::string method;
   std::string method_reason;  // set when --method was not given and the method was chosen
-  // The chosen ekf's axis along the tube (MethodChoice); a --config's axis_along_tube wins.
-  std::string axis_along_tube;
 };
 
 // run.json's method_choice when the method was chosen for the user.
@@ -286,7 +284,6 @@ std::string FormatPercent(double fraction) {
 int RunEkfOdometry(const OdometryFlags& flags) {
   DatasetManifest manifest = OpenRunDataset(flags);
   EkfVoOptions options;
-  if (!flags.axis_along_tube.empty()) options.axis_along_tube = flags.axis_along_tube;
   if (!flags.config.empty()) EkfVoOptionTable().ApplyYamlFile(flags.config, &options);
   const Camera camera = ReadCamera(manifest.camera_path);
   RunDirectory run(flags.out, "odometry", "ekf");
@@ -324,15 +321,33 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   if (!result.metric) {
     report.Warn("the run is up to scale (metric: false); distances are in units of the radius");
   }
-  // A wall camera (the tube along image x or y): what it knows of its distance to the wall.
+  report.Extra("axis_along_tube") = result.axis_along_tube;
+  if (result.travel) {
+    const TravelDirection& travel = *result.travel;
+    report.Extra("travel_direction") = {
+        {"found", travel.found},
+        {"direction_in_camera", {travel.direction.x(), travel.direction.y(), travel.direction.z()}},
+        {"reference_frame", travel.reference_frame},
+        {"frame", travel.frame},
+        {"inliers", travel.inliers},
+        {"failure", travel.failure}};
+    if (!travel.found) {
+      report.Warn("axis_along_tube auto: the direction of travel could not be measured (" +
+                  travel.failure +
+                  "): the tube was taken to run along the optical axis (z); give "
+                  "axis_along_tube in a --config");
+    }
+  }
+  // A wall camera (the tube across the optical axis): what it knows of its distance to the wall.
   std::optional<WallDistanceStatement> wall_distance;
-  if (options.axis_along_tube != "z" && result.metric && manifest.inner_radius_m) {
+  if (!result.looks_down_tube && result.metric && manifest.inner_radius_m) {
     const double radius = *manifest.inner_radius_m;
     const bool has_reference_scale =
         manifest.reference_scale_px_per_m && *manifest.reference_scale_px_per_m > 0.0;
+    // The mount nearest the axis the filter started with.
+    const std::string mount = result.axis_along_tube == "y" ? "y" : "x";
     wall_distance = MakeWallDistanceStatement(
-        camera, CameraMount{options.axis_along_tube}, radius,
-        NominalStartWallDistance(manifest, camera, radius),
+        camera, CameraMount{mount}, radius, NominalStartWallDistance(manifest, camera, radius),
         has_reference_scale ? "reference_scale_px_per_m (estimated from the start on)"
                             : "none given: estimated from the start on",
         true);
@@ -436,7 +451,6 @@ int RunOdometry(const OdometryFlags& flags) {
     OdometryFlags chosen = flags;
     chosen.method = choice.method;
     chosen.method_reason = choice.reason;
-    chosen.axis_along_tube = choice.axis_along_tube;
     // A --config names one method's keys, so only a run without one can fall back.
     if (choice.fallback.empty() || !flags.config.empty()) return RunOdometry(chosen);
     std::string why;

@@ -9,6 +9,7 @@
 #include "pipescope/feature/guided_zncc.h"
 #include "pipescope/image/gain_mask.h"
 #include "pipescope/io/image_source.h"
+#include "pipescope/pipeline/travel_direction.h"
 #include "pipescope/util/error.h"
 #include "pipescope/util/progress.h"
 #include "pipescope/util/timer.h"
@@ -20,7 +21,41 @@ Eigen::Vector3d AxisInCamera(const std::string& name) {
   if (name == "z") return Eigen::Vector3d::UnitZ();
   if (name == "x") return Eigen::Vector3d::UnitX();
   if (name == "y") return Eigen::Vector3d::UnitY();
-  throw InputError("axis_along_tube: unknown axis '" + name + "' (valid: z, x, y)");
+  throw InputError("axis_along_tube: unknown axis '" + name + "' (valid: auto, z, x, y)");
+}
+
+// A measured direction of travel within this angle of a camera axis is taken to be that axis (a
+// mount is usually aligned, and the filter's initial axis sigma covers a few degrees); farther
+// from all three, the measured direction itself. On 320 x 240 frames the measurement erred by up
+// to 12 degrees looking down a tube and 5 at the wall (1.2 at 1024 x 768).
+constexpr double kAxisSnapDeg = 30.0;
+
+// The axis along the tube in the camera frame, and its name: the option's, or with "auto" the
+// camera's measured direction of travel (pipeline/travel_direction.h).
+Eigen::Vector3d ChooseAxisInCamera(const DatasetManifest& manifest, const Camera& camera,
+                                   const cv::Mat& gain_mask, const cv::Mat& view,
+                                   const EkfVoOptions& options, EkfVoResult* result) {
+  if (options.axis_along_tube != "auto") {
+    result->axis_along_tube = options.axis_along_tube;
+    return AxisInCamera(options.axis_along_tube);
+  }
+  KltTrackerOptions tracker_options = options.tracker;
+  tracker_options.flat_field_sigma_px = 0.0;
+  result->travel = MeasureTravelDirection(manifest, camera, gain_mask, view, tracker_options,
+                                          TravelDirectionOptions{});
+  if (!result->travel->found) {
+    result->axis_along_tube = "z";
+    return Eigen::Vector3d::UnitZ();
+  }
+  const Eigen::Vector3d& direction = result->travel->direction;
+  for (const char* name : {"z", "x", "y"}) {
+    if (std::abs(direction.dot(AxisInCamera(name))) > std::cos(kAxisSnapDeg * M_PI / 180.0)) {
+      result->axis_along_tube = name;
+      return AxisInCamera(name);
+    }
+  }
+  result->axis_along_tube = "measured";
+  return direction;
 }
 
 // The share of the gain mask's brightest below which a pixel counts as unlit: the frame there,
@@ -68,7 +103,6 @@ Eigen::Isometry3d TubeFrameFromWorld(const TubeSection& first_section,
 
 EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
                      const EkfVoOptions& options) {
-  const Eigen::Vector3d axis_in_camera = AxisInCamera(options.axis_along_tube);
   const double radius = options.metric ? RequireInnerRadius(manifest) : 1.0;
   TubularEkfOptions filter_options = options.filter;
   if (!options.metric) filter_options.radius_prior_sigma = 0.0;
@@ -77,17 +111,22 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
 
   EkfVoResult result;
   result.metric = options.metric;
-  KltTrackerOptions tracker_options = options.tracker;
-  const double flat_field_share = options.flat_field_width_share >= 0.0
-                                      ? options.flat_field_width_share
-                                      : (options.axis_along_tube == "z" ? 0.05 : 0.0);
-  tracker_options.flat_field_sigma_px = flat_field_share * camera.Width();
-  KltTracker tracker(tracker_options);
   // Where the camera sees the lit wall: inside the model's field of view and where the gain mask
   // is at least kMinLitShare of its brightest. A lens's image circle can be narrower than the
   // model's reach (a 190-degree fisheye), and beyond it the gain correction multiplies noise.
   cv::Mat view = BearingTable(camera, camera.MaxAngle()).valid_mask().clone();
   if (!gain_mask.empty()) view.setTo(0, gain_mask < kMinLitShare);
+  const Eigen::Vector3d axis_in_camera =
+      ChooseAxisInCamera(manifest, camera, gain_mask, view, options, &result);
+  // Looking down the tube: the axis nearer the optical axis than across it.
+  const bool looks_down_tube = std::abs(axis_in_camera.z()) > std::sqrt(0.5);
+  result.looks_down_tube = looks_down_tube;
+  KltTrackerOptions tracker_options = options.tracker;
+  const double flat_field_share = options.flat_field_width_share >= 0.0
+                                      ? options.flat_field_width_share
+                                      : (looks_down_tube ? 0.05 : 0.0);
+  tracker_options.flat_field_sigma_px = flat_field_share * camera.Width();
+  KltTracker tracker(tracker_options);
   tracker.SetViewMask(view);
   std::optional<TubularEkf> filter;
   std::vector<Eigen::Isometry3d> world_poses;

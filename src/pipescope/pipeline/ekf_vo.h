@@ -1,6 +1,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "pipescope/io/trajectory.h"
 #include "pipescope/mapping/tube_centreline.h"
 #include "pipescope/mapping/tube_mosaic.h"
+#include "pipescope/pipeline/travel_direction.h"
 #include "pipescope/util/stage_times.h"
 
 namespace pipescope {
@@ -22,8 +24,10 @@ struct EkfVoOptions {
   TubularEkfOptions filter;
   // The camera axis that runs along the tube at the start: "z" for a camera looking down the
   // tube (004's set-up), "x", "y" for a camera looking at the wall (000's; the sign does not
-  // matter to a cylinder).
-  std::string axis_along_tube = "z";
+  // matter to a cylinder); "auto": the camera's direction of travel over the first frames
+  // (pipeline/travel_direction.h), taken as the nearest of those axes within 30 degrees, else
+  // as measured; "z" when it cannot be measured (said in EkfVoResult::travel).
+  std::string axis_along_tube = "auto";
   // Lucas-Kanade tracks each frame divided by its blur of this sigma, as a share of the image
   // width (KltTrackerOptions::flat_field_sigma_px); -1 = by the view: a twentieth for a camera
   // looking down the tube, whose gain mask (made in a straight tube, on the axis) leaves the
@@ -61,6 +65,13 @@ struct EkfSectionRecord {
 };
 
 struct EkfVoResult {
+  // The axis along the tube the filter started with: "z", "x", "y" or "measured"; with
+  // axis_along_tube "auto", what was measured.
+  std::string axis_along_tube;
+  std::optional<TravelDirection> travel;
+  // The axis nearer the optical axis than across it: a camera looking down the tube, not at its
+  // wall.
+  bool looks_down_tube = true;
   // Every frame the filter went through, world_from_cam, in the first section's frame: Z along
   // its axis, the origin the first camera's foot on it, X towards phi = 0 (the pipe's up when the
   // dataset gives it, else the first camera's -y).

@@ -125,7 +125,9 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
           "", "sections: kept in the filter's state; older ones are frozen"),
       Choice<O>(
           "axis_along_tube", [](O& o) -> std::string& { return o.axis_along_tube; },
-          {"z", "x", "y"}, "the camera axis along the tube at the start (z: looking down it)"),
+          {"auto", "z", "x", "y"},
+          "the camera axis along the tube at the start (z: looking down it; auto: the measured "
+          "direction of travel)"),
       Flag<O>(
           "metric", [](O& o) -> bool& { return o.metric; },
           "the dataset's radius makes the run metric (false: up to scale)"),

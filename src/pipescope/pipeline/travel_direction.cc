@@ -1,0 +1,105 @@
+#include "pipescope/pipeline/travel_direction.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <opencv2/calib3d.hpp>
+#include <optional>
+#include <vector>
+
+#include "pipescope/image/gain_mask.h"
+#include "pipescope/image/undistortion.h"
+#include "pipescope/io/image_source.h"
+
+namespace pipescope {
+namespace {
+
+double MedianDisplacement(const std::map<long, cv::Point2f>& origins,
+                          const std::vector<KltPair>& pairs) {
+  std::vector<double> moved;
+  for (const KltPair& pair : pairs) {
+    const auto origin = origins.find(pair.track_id);
+    if (origin != origins.end()) moved.push_back(cv::norm(pair.current - origin->second));
+  }
+  if (moved.empty()) return 0.0;
+  std::nth_element(moved.begin(), moved.begin() + moved.size() / 2, moved.end());
+  return moved[moved.size() / 2];
+}
+
+}  // namespace
+
+TravelDirection MeasureTravelDirection(const DatasetManifest& manifest, const Camera& camera,
+                                       const cv::Mat& gain_mask, const cv::Mat& view,
+                                       const KltTrackerOptions& tracker_options,
+                                       const TravelDirectionOptions& options) {
+  TravelDirection result;
+  KltTracker tracker(tracker_options);
+  tracker.SetViewMask(view);
+  auto source = ImageSource::Open(manifest, {camera.Width(), camera.Height()});
+  // The reference frame's corners: where each track was when the motion began.
+  std::map<long, cv::Point2f> origins;
+  std::size_t reference = 0;
+  bool have_reference = false;
+  const double focal = CentralFocalLengthPx(camera);
+  const double min_displacement_px = options.min_displacement_width_share * camera.Width();
+  for (int count = 0; count < options.max_frames; ++count) {
+    std::optional<Frame> frame = source->Next();
+    if (!frame) break;
+    cv::Mat grey8;
+    (gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask))
+        .convertTo(grey8, CV_8U);
+    const std::vector<KltPair> pairs = tracker.Track(grey8);
+    int surviving = 0;
+    for (const KltPair& pair : pairs) surviving += origins.count(pair.track_id) > 0 ? 1 : 0;
+    if (!have_reference || surviving < options.min_tracks) {
+      // Start again from this frame: its tracks (continued and new) are the origins.
+      origins.clear();
+      for (const KltPair& pair : pairs) origins[pair.track_id] = pair.current;
+      reference = frame->index;
+      have_reference = !pairs.empty();
+      continue;
+    }
+    if (MedianDisplacement(origins, pairs) < min_displacement_px) continue;
+    std::vector<cv::Point2d> first, second;
+    for (const KltPair& pair : pairs) {
+      const auto origin = origins.find(pair.track_id);
+      if (origin == origins.end()) continue;
+      Eigen::Vector3d a, b;
+      if (!camera.Unproject(Eigen::Vector2d(origin->second.x, origin->second.y), &a) ||
+          !camera.Unproject(Eigen::Vector2d(pair.current.x, pair.current.y), &b) || a.z() <= 0.0 ||
+          b.z() <= 0.0) {
+        continue;
+      }
+      first.emplace_back(a.x() / a.z(), a.y() / a.z());
+      second.emplace_back(b.x() / b.z(), b.y() / b.z());
+    }
+    if (static_cast<int>(first.size()) < options.min_tracks) continue;
+    cv::Mat inlier_mask;
+    const cv::Mat essential =
+        cv::findEssentialMat(first, second, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999,
+                             options.ransac_threshold_px / focal, inlier_mask);
+    if (essential.rows != 3 || essential.cols != 3) continue;
+    cv::Mat rotation, translation;
+    const int inliers = cv::recoverPose(essential, first, second, cv::Mat::eye(3, 3, CV_64F),
+                                        rotation, translation, inlier_mask);
+    if (inliers < options.min_tracks) continue;
+    // x2 = R x1 + t: the second camera's centre, in the first camera's frame, is -R^T t.
+    const cv::Mat centre = -rotation.t() * translation;
+    result.direction =
+        Eigen::Vector3d(centre.at<double>(0), centre.at<double>(1), centre.at<double>(2))
+            .normalized();
+    result.found = true;
+    result.reference_frame = reference;
+    result.frame = frame->index;
+    result.inliers = inliers;
+    return result;
+  }
+  result.failure = fmt::format(
+      "the tracks of the first {} frames did not move {:.0f} px with {} tracks in common and a "
+      "pose",
+      options.max_frames, min_displacement_px, options.min_tracks);
+  return result;
+}
+
+}  // namespace pipescope
