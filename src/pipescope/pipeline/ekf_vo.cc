@@ -26,8 +26,8 @@ Eigen::Vector3d AxisInCamera(const std::string& name) {
 
 // A measured direction of travel within this angle of a camera axis is taken to be that axis (a
 // mount is usually aligned, and the filter's initial axis sigma covers a few degrees); farther
-// from all three, the measured direction itself. On 320 x 240 frames the measurement erred by up
-// to 12 degrees looking down a tube and 5 at the wall (1.2 at 1024 x 768).
+// from all three, the measured direction itself. The measurement erred by up to 18 degrees on a
+// narrow (25-degree) wall view and 5.4 looking down a tube (pipeline/travel_direction.h).
 constexpr double kAxisSnapDeg = 30.0;
 
 // The axis along the tube in the camera frame, and its name: the option's, or with "auto" the

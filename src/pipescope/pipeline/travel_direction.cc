@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <opencv2/calib3d.hpp>
 #include <optional>
@@ -15,12 +16,19 @@
 namespace pipescope {
 namespace {
 
-double MedianDisplacement(const std::map<long, cv::Point2f>& origins,
-                          const std::vector<KltPair>& pairs) {
+// Median angle (rad) between each surviving track's bearing in the reference frame and now.
+double MedianParallax(const Camera& camera, const std::map<long, cv::Point2f>& origins,
+                      const std::vector<KltPair>& pairs) {
   std::vector<double> moved;
   for (const KltPair& pair : pairs) {
     const auto origin = origins.find(pair.track_id);
-    if (origin != origins.end()) moved.push_back(cv::norm(pair.current - origin->second));
+    Eigen::Vector3d a, b;
+    if (origin == origins.end() ||
+        !camera.Unproject(Eigen::Vector2d(origin->second.x, origin->second.y), &a) ||
+        !camera.Unproject(Eigen::Vector2d(pair.current.x, pair.current.y), &b)) {
+      continue;
+    }
+    moved.push_back(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
   }
   if (moved.empty()) return 0.0;
   std::nth_element(moved.begin(), moved.begin() + moved.size() / 2, moved.end());
@@ -42,10 +50,12 @@ TravelDirection MeasureTravelDirection(const DatasetManifest& manifest, const Ca
   std::size_t reference = 0;
   bool have_reference = false;
   const double focal = CentralFocalLengthPx(camera);
-  const double min_displacement_px = options.min_displacement_width_share * camera.Width();
+  const double min_parallax_rad = options.min_parallax_deg * M_PI / 180.0;
+  int frames = 0;
   for (int count = 0; count < options.max_frames; ++count) {
     std::optional<Frame> frame = source->Next();
     if (!frame) break;
+    ++frames;
     cv::Mat grey8;
     (gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask))
         .convertTo(grey8, CV_8U);
@@ -60,7 +70,7 @@ TravelDirection MeasureTravelDirection(const DatasetManifest& manifest, const Ca
       have_reference = !pairs.empty();
       continue;
     }
-    if (MedianDisplacement(origins, pairs) < min_displacement_px) continue;
+    if (MedianParallax(camera, origins, pairs) < min_parallax_rad) continue;
     std::vector<cv::Point2d> first, second;
     for (const KltPair& pair : pairs) {
       const auto origin = origins.find(pair.track_id);
@@ -96,9 +106,9 @@ TravelDirection MeasureTravelDirection(const DatasetManifest& manifest, const Ca
     return result;
   }
   result.failure = fmt::format(
-      "the tracks of the first {} frames did not move {:.0f} px with {} tracks in common and a "
-      "pose",
-      options.max_frames, min_displacement_px, options.min_tracks);
+      "the tracks of the first {} frames did not turn {:.1f} degrees with {} tracks in common and "
+      "an essential matrix",
+      frames, options.min_parallax_deg, options.min_tracks);
   return result;
 }
 

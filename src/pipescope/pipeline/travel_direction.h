@@ -17,12 +17,14 @@ namespace pipescope {
 // (five-point RANSAC, cv::findEssentialMat on the bearings in front of the camera) whose
 // translation cv::recoverPose returns.
 struct TravelDirectionOptions {
-  // Median displacement of the tracks from the reference frame before the pose is computed, as a
-  // share of the image width. A narrow view tells a translation across it from a turn only by
-  // small perspective differences: a wall camera's direction came out 1.2 degrees off the truth
-  // at 1024 px wide and 4-8 degrees at 320 px, whether after 16, 32 or 64 px of motion; a camera
-  // looking down the tube, within 3 (travel_direction_test.cc).
-  double min_displacement_width_share = 0.05;
+  // Median angle between the tracks' bearings in the reference frame and now before the pose is
+  // computed (degrees, so that every lens model is alike). A narrow view tells a translation
+  // across it from a turn only by small perspective differences, which grow with the baseline:
+  // against the truth, at 6 degrees steel-6in's direction came out 0.6-0.9 degrees off, the
+  // 16-inch pipe's 25-degree view 13-18 (at 3 degrees 24-26), the culvert 1.1, tube-bend's
+  // forward view 3.7 (5.4 at 320 x 240); at 10 degrees a forward view's tracks seldom lasted
+  // long enough.
+  double min_parallax_deg = 6.0;
   // The reference frame is renewed when fewer of its tracks than this survive.
   int min_tracks = 30;
   // Give up after this many frames.
