@@ -249,8 +249,8 @@ constexpr double kEkfMaxRadiusDisagreement = 0.03;
 // Where a wall camera's view cannot measure its distance to the wall, an ekf run whose camera
 // strays more than this share of that distance across the pipe is unreliable, as a sparse run
 // is (SparseVoOptions::max_unobserved_excursion): on the 16-inch pipe's 25-degree view the
-// filter followed a 9.7 mm wander to 0.02-0.5 % on two seeds and ended 3.4 % off, calling itself
-// reliable, on a third (docs/conditions.md).
+// filter followed a 9.7 mm wander to within 0.02-0.53 % on five runs and ended 3.4 % off, calling
+// itself reliable, on the sixth (docs/conditions.md).
 constexpr double kEkfMaxUnobservedExcursion = 0.02;
 // Median over the updated frames of the tracks' mean normalised innovation squared (posterior)
 // above which the run is unreliable: twice the 2 a filter whose pixel_sigma describes its tracks
@@ -340,12 +340,13 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   }
   // A wall camera (the tube across the optical axis): what it knows of its distance to the wall.
   std::optional<WallDistanceStatement> wall_distance;
-  if (!result.looks_down_tube && result.metric && manifest.inner_radius_m) {
+  if (!LooksDownTube(result.axis_in_camera) && result.metric && manifest.inner_radius_m) {
     const double radius = *manifest.inner_radius_m;
     const bool has_reference_scale =
         manifest.reference_scale_px_per_m && *manifest.reference_scale_px_per_m > 0.0;
     // The mount nearest the axis the filter started with.
-    const std::string mount = result.axis_along_tube == "y" ? "y" : "x";
+    const std::string mount =
+        std::abs(result.axis_in_camera.y()) > std::abs(result.axis_in_camera.x()) ? "y" : "x";
     wall_distance = MakeWallDistanceStatement(
         camera, CameraMount{mount}, radius, NominalStartWallDistance(manifest, camera, radius),
         has_reference_scale ? "reference_scale_px_per_m (estimated from the start on)"
@@ -385,21 +386,12 @@ int RunEkfOdometry(const OdometryFlags& flags) {
           FormatPercent(worst_off) + "): the tube model does not explain the images there");
     }
   }
-  if (wall_distance && !WallDistanceMeasured(*wall_distance) && !result.trajectory.empty()) {
-    double excursion = 0.0;
-    for (const StampedPose& pose : result.trajectory) {
-      excursion = std::max(excursion,
-                           (pose.position - result.trajectory.front().position).head<2>().norm());
-    }
-    const double share = excursion / wall_distance->start_m;
+  if (wall_distance && !result.trajectory.empty()) {
+    const double excursion = CrossSectionExcursion(result.trajectory);
     report.Extra("cross_section_excursion_m") = excursion;
-    if (share > kEkfMaxUnobservedExcursion) {
-      model_reasons.push_back(fmt::format(
-          "this view cannot measure the camera's distance to the wall, and the estimated camera "
-          "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the "
-          "scale follows an excursion the images could not confirm",
-          1000.0 * excursion, 100.0 * share, 100.0 * kEkfMaxUnobservedExcursion));
-    }
+    const std::string unobserved =
+        UnobservedExcursionReason(*wall_distance, excursion, kEkfMaxUnobservedExcursion);
+    if (!unobserved.empty()) model_reasons.push_back(unobserved);
   }
   const double median_nis = innovation["mean_nis_median"].get<double>();
   if (median_nis > kEkfMaxMedianNis) {

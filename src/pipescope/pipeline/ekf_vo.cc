@@ -101,6 +101,10 @@ Eigen::Isometry3d TubeFrameFromWorld(const TubeSection& first_section,
   return tube_from_world;
 }
 
+bool LooksDownTube(const Eigen::Vector3d& axis_in_camera) {
+  return std::abs(axis_in_camera.z()) > std::sqrt(0.5);
+}
+
 EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
                      const EkfVoOptions& options) {
   const double radius = options.metric ? RequireInnerRadius(manifest) : 1.0;
@@ -116,15 +120,11 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
   // model's reach (a 190-degree fisheye), and beyond it the gain correction multiplies noise.
   cv::Mat view = BearingTable(camera, camera.MaxAngle()).valid_mask().clone();
   if (!gain_mask.empty()) view.setTo(0, gain_mask < kMinLitShare);
-  const Eigen::Vector3d axis_in_camera =
-      ChooseAxisInCamera(manifest, camera, gain_mask, view, options, &result);
-  // Looking down the tube: the axis nearer the optical axis than across it.
-  const bool looks_down_tube = std::abs(axis_in_camera.z()) > std::sqrt(0.5);
-  result.looks_down_tube = looks_down_tube;
+  result.axis_in_camera = ChooseAxisInCamera(manifest, camera, gain_mask, view, options, &result);
   KltTrackerOptions tracker_options = options.tracker;
   const double flat_field_share = options.flat_field_width_share >= 0.0
                                       ? options.flat_field_width_share
-                                      : (looks_down_tube ? 0.05 : 0.0);
+                                      : (LooksDownTube(result.axis_in_camera) ? 0.05 : 0.0);
   tracker_options.flat_field_sigma_px = flat_field_share * camera.Width();
   KltTracker tracker(tracker_options);
   tracker.SetViewMask(view);
@@ -159,7 +159,8 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
     track_clock.AddTo(&result.stage_times, "track");
     const StageClock<> filter_clock;
     if (!filter) {
-      filter.emplace(camera, Eigen::Isometry3d::Identity(), axis_in_camera, radius, filter_options);
+      filter.emplace(camera, Eigen::Isometry3d::Identity(), result.axis_in_camera, radius,
+                     filter_options);
     } else {
       filter->Predict(frame->timestamp - last_timestamp);
       std::vector<TubularEkfMatch> matches;

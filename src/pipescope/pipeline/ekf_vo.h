@@ -68,10 +68,8 @@ struct EkfVoResult {
   // The axis along the tube the filter started with: "z", "x", "y" or "measured"; with
   // axis_along_tube "auto", what was measured.
   std::string axis_along_tube;
+  Eigen::Vector3d axis_in_camera = Eigen::Vector3d::UnitZ();  // that axis, unit
   std::optional<TravelDirection> travel;
-  // The axis nearer the optical axis than across it: a camera looking down the tube, not at its
-  // wall.
-  bool looks_down_tube = true;
   // Every frame the filter went through, world_from_cam, in the first section's frame: Z along
   // its axis, the origin the first camera's foot on it, X towards phi = 0 (the pipe's up when the
   // dataset gives it, else the first camera's -y).
@@ -90,6 +88,10 @@ struct EkfVoResult {
   double odometry_cpu_seconds = 0.0;
   double mosaic_seconds = 0.0;
 };
+
+// Whether a camera whose tube runs along `axis_in_camera` looks down it (the axis nearer the
+// optical axis than across it) rather than at its wall.
+bool LooksDownTube(const Eigen::Vector3d& axis_in_camera);
 
 // Runs the filter over the dataset's frames. Throws InputError for an unknown axis_along_tube
 // or, when metric, a dataset without pipe.inner_radius_m.

@@ -273,11 +273,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   result.key_frames = std::move(output.key_frames);
   result.points = std::move(output.points);
   result.summary = odometer.summary();
-  for (const StampedPose& key : result.key_frames) {
-    result.cross_section_excursion_m =
-        std::max(result.cross_section_excursion_m,
-                 (key.position - result.key_frames.front().position).head<2>().norm());
-  }
+  result.cross_section_excursion_m = CrossSectionExcursion(result.key_frames);
   result.odometry_seconds = timer.ElapsedSeconds();
   result.odometry_cpu_seconds = cpu_timer.ElapsedSeconds();
   if (options.build_mosaic) {

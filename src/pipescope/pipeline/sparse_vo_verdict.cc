@@ -19,16 +19,9 @@ std::vector<std::string> SparseVoVerdictReasons(const SparseVoResult& result,
         1000.0 * result.cross_section_excursion_m, 100.0 * options.max_cross_section_excursion,
         1000.0 * options.max_cross_section_excursion * radius_m));
   }
-  const double unobserved_share = result.cross_section_excursion_m / result.wall_distance.start_m;
-  if (!WallDistanceMeasured(result.wall_distance) && options.max_unobserved_excursion > 0.0 &&
-      unobserved_share > options.max_unobserved_excursion) {
-    reasons.push_back(fmt::format(
-        "this view cannot measure the camera's distance to the wall, and the estimated camera "
-        "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the scale "
-        "follows an excursion the images could not confirm",
-        1000.0 * result.cross_section_excursion_m, 100.0 * unobserved_share,
-        100.0 * options.max_unobserved_excursion));
-  }
+  const std::string unobserved = UnobservedExcursionReason(
+      result.wall_distance, result.cross_section_excursion_m, options.max_unobserved_excursion);
+  if (!unobserved.empty()) reasons.push_back(unobserved);
   // The first key frame has nothing to track: the median is over the others.
   const std::vector<SparseKeyFrameRecord>& key_frames = result.summary.key_frame_records;
   std::vector<double> tracked_counts;

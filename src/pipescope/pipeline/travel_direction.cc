@@ -16,10 +16,15 @@
 namespace pipescope {
 namespace {
 
-// Median angle (rad) between each surviving track's bearing in the reference frame and now.
-double MedianParallax(const Camera& camera, const std::map<long, cv::Point2f>& origins,
-                      const std::vector<KltPair>& pairs) {
-  std::vector<double> moved;
+// The bearings of the tracks that `pairs` continue from the reference frame (`origins`): where
+// each was then and is now.
+struct BearingPairs {
+  std::vector<Eigen::Vector3d> then, now;
+};
+
+BearingPairs Continued(const Camera& camera, const std::map<long, cv::Point2f>& origins,
+                       const std::vector<KltPair>& pairs) {
+  BearingPairs bearings;
   for (const KltPair& pair : pairs) {
     const auto origin = origins.find(pair.track_id);
     Eigen::Vector3d a, b;
@@ -28,7 +33,17 @@ double MedianParallax(const Camera& camera, const std::map<long, cv::Point2f>& o
         !camera.Unproject(Eigen::Vector2d(pair.current.x, pair.current.y), &b)) {
       continue;
     }
-    moved.push_back(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+    bearings.then.push_back(a.normalized());
+    bearings.now.push_back(b.normalized());
+  }
+  return bearings;
+}
+
+// Median angle (rad) between the bearings then and now.
+double MedianParallax(const BearingPairs& bearings) {
+  std::vector<double> moved;
+  for (std::size_t i = 0; i < bearings.then.size(); ++i) {
+    moved.push_back(std::acos(std::clamp(bearings.then[i].dot(bearings.now[i]), -1.0, 1.0)));
   }
   if (moved.empty()) return 0.0;
   std::nth_element(moved.begin(), moved.begin() + moved.size() / 2, moved.end());
@@ -48,39 +63,31 @@ TravelDirection MeasureTravelDirection(const DatasetManifest& manifest, const Ca
   // The reference frame's corners: where each track was when the motion began.
   std::map<long, cv::Point2f> origins;
   std::size_t reference = 0;
-  bool have_reference = false;
   const double focal = CentralFocalLengthPx(camera);
   const double min_parallax_rad = options.min_parallax_deg * M_PI / 180.0;
   int frames = 0;
-  for (int count = 0; count < options.max_frames; ++count) {
+  for (; frames < options.max_frames; ++frames) {
     std::optional<Frame> frame = source->Next();
     if (!frame) break;
-    ++frames;
     cv::Mat grey8;
     (gain_mask.empty() ? frame->grey : ApplyGainMask(frame->grey, gain_mask))
         .convertTo(grey8, CV_8U);
     const std::vector<KltPair> pairs = tracker.Track(grey8);
-    int surviving = 0;
-    for (const KltPair& pair : pairs) surviving += origins.count(pair.track_id) > 0 ? 1 : 0;
-    if (!have_reference || surviving < options.min_tracks) {
+    const BearingPairs bearings = Continued(camera, origins, pairs);
+    if (origins.empty() || static_cast<int>(bearings.then.size()) < options.min_tracks) {
       // Start again from this frame: its tracks (continued and new) are the origins.
       origins.clear();
       for (const KltPair& pair : pairs) origins[pair.track_id] = pair.current;
       reference = frame->index;
-      have_reference = !pairs.empty();
       continue;
     }
-    if (MedianParallax(camera, origins, pairs) < min_parallax_rad) continue;
+    if (MedianParallax(bearings) < min_parallax_rad) continue;
+    // The essential matrix on the normalised image plane: the bearings in front of the camera.
     std::vector<cv::Point2d> first, second;
-    for (const KltPair& pair : pairs) {
-      const auto origin = origins.find(pair.track_id);
-      if (origin == origins.end()) continue;
-      Eigen::Vector3d a, b;
-      if (!camera.Unproject(Eigen::Vector2d(origin->second.x, origin->second.y), &a) ||
-          !camera.Unproject(Eigen::Vector2d(pair.current.x, pair.current.y), &b) || a.z() <= 0.0 ||
-          b.z() <= 0.0) {
-        continue;
-      }
+    for (std::size_t i = 0; i < bearings.then.size(); ++i) {
+      const Eigen::Vector3d& a = bearings.then[i];
+      const Eigen::Vector3d& b = bearings.now[i];
+      if (a.z() <= 0.0 || b.z() <= 0.0) continue;
       first.emplace_back(a.x() / a.z(), a.y() / a.z());
       second.emplace_back(b.x() / b.z(), b.y() / b.z());
     }

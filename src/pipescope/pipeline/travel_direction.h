@@ -42,8 +42,8 @@ struct TravelDirection {
   std::string failure;  // why none was found
 };
 
-// `prepared`: the frames as the filter sees them (gain-corrected, CV_8U); `view`: the pixels the
-// camera sees (KltTracker::SetViewMask), may be empty.
+// Reads the dataset's first frames, gain-corrected by `gain_mask` (may be empty) as the filter
+// sees them; `view`: the pixels the camera sees (KltTracker::SetViewMask), may be empty.
 TravelDirection MeasureTravelDirection(const DatasetManifest& manifest, const Camera& camera,
                                        const cv::Mat& gain_mask, const cv::Mat& view,
                                        const KltTrackerOptions& tracker_options,

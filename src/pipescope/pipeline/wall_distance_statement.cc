@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "pipescope/image/undistortion.h"
@@ -35,6 +36,25 @@ WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const Came
     }
   }
   return statement;
+}
+
+double CrossSectionExcursion(const Trajectory& poses) {
+  double excursion = 0.0;
+  for (const StampedPose& pose : poses) {
+    excursion = std::max(excursion, (pose.position - poses.front().position).head<2>().norm());
+  }
+  return excursion;
+}
+
+std::string UnobservedExcursionReason(const WallDistanceStatement& statement, double excursion_m,
+                                      double limit_share) {
+  const double share = excursion_m / statement.start_m;
+  if (WallDistanceMeasured(statement) || !(limit_share > 0.0) || share <= limit_share) return "";
+  return fmt::format(
+      "this view cannot measure the camera's distance to the wall, and the estimated camera "
+      "strays {:.1f} mm across the pipe ({:.1f} % of that distance; limit {:.1f} %): the scale "
+      "follows an excursion the images could not confirm",
+      1000.0 * excursion_m, 100.0 * share, 100.0 * limit_share);
 }
 
 bool WallDistanceMeasured(const WallDistanceStatement& statement) {

@@ -8,6 +8,7 @@
 #include "pipescope/estimation/wall_distance_observability.h"
 #include "pipescope/geometry/camera_mount.h"
 #include "pipescope/io/dataset.h"
+#include "pipescope/io/trajectory.h"
 
 namespace pipescope {
 
@@ -37,6 +38,16 @@ WallDistanceStatement MakeWallDistanceStatement(const Camera& camera, const Came
 bool WallDistanceMeasured(const WallDistanceStatement& statement);
 
 nlohmann::json WallDistanceJson(const WallDistanceStatement& statement);
+
+// The farthest any pose of `poses` (pipe frame, axis Z) is across the pipe from the first, m.
+double CrossSectionExcursion(const Trajectory& poses);
+
+// Where the view cannot measure the wall distance, a run whose camera strays more than
+// `limit_share` of that distance across the pipe has a scale that follows an excursion the images
+// could not confirm: the reason that makes it unreliable; empty when the view measures the
+// distance, the limit is 0 or the camera kept within it.
+std::string UnobservedExcursionReason(const WallDistanceStatement& statement, double excursion_m,
+                                      double limit_share);
 
 // One line for the run's warnings when the wall distance is assumed, empty when it is measured.
 std::string WallDistanceWarning(const WallDistanceStatement& statement, const std::string& method);
