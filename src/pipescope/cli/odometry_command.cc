@@ -257,7 +257,7 @@ constexpr double kEkfMaxUnobservedExcursion = 0.02;
 // expects. Tracks that disagree with the filter by more than their assumed noise (texture too weak
 // or noisy to track, frames of plain noise) move the estimate where the images do not support it:
 // on weak, noisy wall texture 10.2 (a run 6.2 % off), on frames of plain noise 18.5 (65 % off);
-// the runs that held (wall cameras, tube-bend) stayed within 0.27 (docs/conditions.md).
+// the runs that held (wall cameras, eleven tube-bend runs) stayed within 0.30 (docs/conditions.md).
 constexpr double kEkfMaxMedianNis = 4.0;
 // Turning of the chain (the sum of the angles between consecutive sections) above which the run
 // warns that it went through bends, whose angle a chain of straight sections only approximates.

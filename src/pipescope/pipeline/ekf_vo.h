@@ -24,9 +24,9 @@ struct EkfVoOptions {
   TubularEkfOptions filter;
   // The camera axis that runs along the tube at the start: "z" for a camera looking down the
   // tube (004's set-up), "x", "y" for a camera looking at the wall (000's; the sign does not
-  // matter to a cylinder); "auto": the camera's direction of travel over the first frames
-  // (pipeline/travel_direction.h), taken as the nearest of those axes within 30 degrees, else
-  // as measured; "z" when it cannot be measured (said in EkfVoResult::travel).
+  // matter to a cylinder); "auto": the one nearest the camera's direction of travel over the
+  // first frames (pipeline/travel_direction.h), "z" when that cannot be measured (said in
+  // EkfVoResult::travel).
   std::string axis_along_tube = "auto";
   // Lucas-Kanade tracks each frame divided by its blur of this sigma, as a share of the image
   // width (KltTrackerOptions::flat_field_sigma_px); -1 = by the view: a twentieth for a camera
@@ -65,8 +65,8 @@ struct EkfSectionRecord {
 };
 
 struct EkfVoResult {
-  // The axis along the tube the filter started with: "z", "x", "y" or "measured"; with
-  // axis_along_tube "auto", what was measured.
+  // The camera axis along the tube the filter started with ("z", "x" or "y"); with
+  // axis_along_tube "auto", the direction of travel measured.
   std::string axis_along_tube;
   Eigen::Vector3d axis_in_camera = Eigen::Vector3d::UnitZ();  // that axis, unit
   std::optional<TravelDirection> travel;

@@ -11,8 +11,9 @@
 namespace pipescope {
 
 // The direction the camera travels in its own frame at the start of a dataset, measured rather
-// than assumed from the mount: a crawler moves along the pipe, so this is the pipe's axis in the
-// first camera's frame, whether the camera looks down the pipe or at its wall. The first frames'
+// than assumed from the mount: a crawler moves along the pipe, so this lies near the pipe's axis
+// in the first camera's frame (off it by any sideways motion of the crawler), whether the camera
+// looks down the pipe or at its wall. The first frames'
 // tracks, once they have moved far enough for the translation to show, give an essential matrix
 // (five-point RANSAC, cv::findEssentialMat on the bearings in front of the camera) whose
 // translation cv::recoverPose returns.
@@ -35,7 +36,7 @@ struct TravelDirectionOptions {
 
 struct TravelDirection {
   bool found = false;
-  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit, first camera frame
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit, the reference camera frame
   std::size_t reference_frame = 0;                       // the frame the motion was measured from
   std::size_t frame = 0;                                 // and to
   int inliers = 0;
