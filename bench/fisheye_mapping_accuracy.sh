@@ -11,7 +11,10 @@
 # `route` maps the preset's whole route at its own speed and length (26 000 frames, 32 m, route A;
 # ROUTE=B for route B), timed with /usr/bin/time -v, and prints 001 Table I's row for dataset A
 # beside ours. It takes about 40 min to simulate (12 GB of images) and 20 min to map.
-# Usage: bench/fisheye_mapping_accuracy.sh [BUILD_DIR] [OUT_DIR] [straight|network|both|head|route]
+# `slow` runs the preset's own speed (9.5 mm/s at 7.5 fps, 1.3 mm a frame, its speed varying) on
+# two cuts: a 3 m straight pipe (2400 frames) and the first 1500 frames of route A (1.9 m: the
+# start arm, T1 and 0.6 m beyond), each at SEEDS (default: the default seed and 41).
+# Usage: bench/fisheye_mapping_accuracy.sh [BUILD_DIR] [OUT_DIR] [straight|network|both|head|route|slow]
 set -euo pipefail
 BUILD_DIR=${1:-build}
 OUT=${2:-/tmp/pipescope_fisheye}
@@ -60,6 +63,26 @@ if [ "$WHICH" = head ]; then
   H=$OUT/straight-head
   "$P" map "$H" --out "$OUT/straight-head-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
   report "$OUT/straight-head-run" "$H"
+  exit 0
+fi
+if [ "$WHICH" = slow ]; then
+  for seed in ${SEEDS:-default 41}; do
+    seed_flags=()
+    if [ "$seed" != default ]; then seed_flags=(--seed "$seed"); fi
+    for cut in straight route-A-head; do
+      D=$OUT/slow-$cut-$seed
+      if [ ! -f "$D/dataset.yaml" ]; then
+        if [ $cut = straight ]; then
+          "$P" simulate --preset fiberglass-network --frames 2400 --set layout=straight \
+            --set length_m=4.5 "${seed_flags[@]}" --out "$D" -q
+        else
+          "$P" simulate --preset fiberglass-network --frames 1500 "${seed_flags[@]}" --out "$D" -q
+        fi
+      fi
+      "$P" map "$D" --out "$D-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
+      report "$D-run" "$D"
+    done
+  done
   exit 0
 fi
 if [ "$WHICH" = route ]; then

@@ -367,7 +367,12 @@ int RunMap(const RunFlags& flags) {
   states.insert(states.end(), result.unreadable_frames.size(), FrameState::kNotLocalised);
   // A scale the windows did not confirm is not trusted (on faint, noisy texture most windows
   // are rejected and the single steps' bias stays).
-  run.SetQuality(states, WindowConfirmationReasons(result, options));
+  std::vector<int> keyframe_frames;
+  for (const FisheyeKeyframe& keyframe : result.keyframes) {
+    keyframe_frames.push_back(keyframe.frame_index);
+  }
+  run.SetQuality(states, WindowConfirmationReasons(result, options),
+                 KeyframeQualityLimits(keyframe_frames));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

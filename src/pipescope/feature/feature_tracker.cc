@@ -42,6 +42,16 @@ std::vector<cv::Point2f> FeatureTracker::Detect(const cv::Mat& grey) const {
   return points;
 }
 
+bool FeatureTracker::FlowEndsSpan(double median_flow_px, int frames_since_keyframe) const {
+  if (median_flow_px >= options_.min_median_flow_px) return true;
+  // At the same speed the next frame's flow grows by one frame's flow: this span's so far and
+  // the last spans' per frame, their upper median, so that one frame of little flow (inside a T
+  // at 1 cm a frame) does not drop a key frame where every frame is one.
+  std::vector<double> flow_per_frame = recent_flow_per_frame_;
+  flow_per_frame.push_back(median_flow_px / std::max(1, frames_since_keyframe));
+  return median_flow_px + UpperMedian(flow_per_frame) > options_.max_median_flow_px;
+}
+
 bool FeatureTracker::Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const {
   return camera_.Unproject(Eigen::Vector2d(pixel.x, pixel.y), bearing);
 }
@@ -80,6 +90,7 @@ void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
   keyframe->frame_index = frame_index;
   keyframe->features = state->features;
   last_ = std::move(state);
+  span_start_inliers_ = 0;
 }
 
 TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
@@ -134,9 +145,9 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
         cv::norm(last_->points[usable_matches[k].index_a] - points[usable_matches[k].index_b]));
   }
   step.median_flow_px = UpperMedian(flows);
-  step.correspondence_fraction =
-      static_cast<double>(pose.num_inliers) / std::max<std::size_t>(1, last_->features.size());
-  step.keyframe = step.median_flow_px >= options_.min_median_flow_px ||
+  if (span_start_inliers_ == 0) span_start_inliers_ = pose.num_inliers;
+  step.correspondence_fraction = static_cast<double>(pose.num_inliers) / span_start_inliers_;
+  step.keyframe = FlowEndsSpan(step.median_flow_px, frame_index - last_->frame_index) ||
                   step.correspondence_fraction < options_.min_correspondence_fraction;
   if (!step.keyframe) return step;
 
@@ -211,6 +222,11 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   keyframe->matches_cosine = matches_cosine;
   keyframe->matches_guided = matches_guided;
   keyframe->median_flow_px = step.median_flow_px;
+  recent_flow_per_frame_.push_back(step.median_flow_px /
+                                   std::max(1, frame_index - last_->frame_index));
+  if (recent_flow_per_frame_.size() > kRecentSpans) {
+    recent_flow_per_frame_.erase(recent_flow_per_frame_.begin());
+  }
   MakeKeyframe(grey, frame_index, std::move(features), keyframe, descriptors, detection_rows);
   return step;
 }

@@ -92,5 +92,64 @@ TEST(FisheyeTracking, KeyframeDescriptorsEqualFreshOnes) {
   EXPECT_GT(guided, 0);  // both kinds of rows were checked
 }
 
+// 001's crawler at its own speed (9.5 mm/s at 7.5 fps, 1.3 mm a frame): the key frames are
+// spaced by the median flow, not made at every frame. Before, the share of corresponding features
+// was measured against all of the key frame's (most of them fresh detections matched once at
+// most), fell under the limit at every frame, and every frame became a key frame: 1.3 mm
+// baselines, and the map of a 3 m straight pipe ended 100 % off (docs/fisheye_mapping.md).
+TEST(FisheyeTracking, ASlowCrawlerGetsKeyFramesByItsFlow) {
+  SimulationConfig config = StraightFisheyeConfig(60);
+  ASSERT_NEAR(config.speed_m_s / config.fps, 0.00127, 0.0001);
+  const Simulation simulation(config);
+  const FeatureTrackerOptions options;
+  FeatureTracker tracker(simulation.camera(), options);
+  std::vector<int> keyframe_frames;
+  for (int index = 0; index < config.frames; ++index) {
+    TrackedKeyframe keyframe;
+    const TrackingStep step = tracker.Track(RenderedGrey(simulation, index), index, &keyframe);
+    ASSERT_TRUE(step.usable) << index << ": " << step.failure;
+    if (!step.keyframe) continue;
+    keyframe_frames.push_back(index);
+    if (index == 0) continue;
+    // The flow ended the span, not a loss of correspondences, and only just.
+    EXPECT_GE(keyframe.median_flow_px, options.min_median_flow_px) << index;
+    EXPECT_LT(keyframe.median_flow_px, 1.5 * options.min_median_flow_px) << index;
+  }
+  // At half 001's image size, 10 px of flow takes about 2 cm, 15 frames.
+  ASSERT_GE(keyframe_frames.size(), 3u);
+  EXPECT_LE(keyframe_frames.size(), 6u);
+  for (std::size_t k = 1; k < keyframe_frames.size(); ++k) {
+    EXPECT_GE(keyframe_frames[k] - keyframe_frames[k - 1], 5) << k;
+  }
+}
+
+// Where every frame is a key frame, one short step (a frame of little flow, as inside a T at
+// 1 cm a frame) stays a key frame: the next frame's flow is predicted at the recent spans' pace,
+// not at the short step's own. Every 8th frame of the preset, about 1 cm apart (about 5 px at
+// 640x480; the flow limits halved with the image), with one step of 3 frames between.
+TEST(FisheyeTracking, OneShortStepKeepsEveryFrameAKeyFrame) {
+  SimulationConfig config = StraightFisheyeConfig(68);
+  config.speed_variation = 0.0;
+  const Simulation simulation(config);
+  FeatureTrackerOptions options;
+  options.min_median_flow_px = 4.0;
+  options.max_median_flow_px = 6.0;
+  FeatureTracker tracker(simulation.camera(), options);
+  const std::vector<int> frames = {0, 8, 16, 24, 32, 40, 43, 51, 59, 67};
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    TrackedKeyframe keyframe;
+    const TrackingStep step =
+        tracker.Track(RenderedGrey(simulation, frames[k]), static_cast<int>(k), &keyframe);
+    ASSERT_TRUE(step.usable) << k << ": " << step.failure;
+    EXPECT_TRUE(step.keyframe) << k << ": " << step.median_flow_px << " px";
+    if (frames[k] == 43) {
+      // The short step's own pace would have waited for the next frame.
+      EXPECT_LT(2.0 * step.median_flow_px, options.max_median_flow_px);
+    } else if (k > 0) {
+      EXPECT_GE(step.median_flow_px, options.min_median_flow_px) << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pipescope

@@ -13,9 +13,14 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "min_median_flow_px", [](O& o) -> double& { return o.tracking.min_median_flow_px; }, 0.1,
           1000.0, "px", "a key frame when the median flow to the last one reaches this"),
       Number<O>(
+          "max_median_flow_px", [](O& o) -> double& { return o.tracking.max_median_flow_px; }, 0.1,
+          1000.0, "px",
+          "... or when the next frame's would pass this at the recent pace (every frame a key "
+          "frame for a fast crawler)"),
+      Number<O>(
           "min_correspondence_fraction",
           [](O& o) -> double& { return o.tracking.min_correspondence_fraction; }, 0.0, 1.0, "",
-          "... or the share of features still corresponding drops below this"),
+          "... or the inliers fall below this share of the first frame's after the key frame"),
       Number<O>(
           "min_similarity", [](O& o) -> double& { return o.tracking.matching.min_similarity; },
           -1.0, 1.0, "", "template matching: cosine similarity of a match"),

@@ -246,13 +246,14 @@ std::optional<Metrics> RunDirectory::WriteMetrics(const Trajectory& ground_truth
 }
 
 RunQuality RunDirectory::SetQuality(const std::vector<FrameState>& states,
-                                    const std::vector<std::string>& model_reasons) {
-  quality_ = AssessRunQuality(states);
+                                    const std::vector<std::string>& model_reasons,
+                                    const RunQualityLimits& limits) {
+  quality_ = AssessRunQuality(states, limits);
   for (const std::string& reason : model_reasons) {
     quality_->reliable = false;
     quality_->reasons.push_back(reason);
   }
-  report_.Extra("quality") = RunQualityJson(*quality_);
+  report_.Extra("quality") = RunQualityJson(*quality_, limits);
   if (quality_->reliable) {
     spdlog::info("{}", RunQualitySummary(*quality_));
   } else {

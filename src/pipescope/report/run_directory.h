@@ -66,7 +66,8 @@ class RunDirectory {
   // `model_reasons`: what the method found wrong with its own result beyond the frame states (a
   // fitted model that disagrees with the dataset); each makes the run unreliable.
   RunQuality SetQuality(const std::vector<FrameState>& states,
-                        const std::vector<std::string>& model_reasons = {});
+                        const std::vector<std::string>& model_reasons = {},
+                        const RunQualityLimits& limits = {});
 
   // How stations.csv measures distance: by default along the straight axis for `odometry`, along
   // the travelled path for `map`; a method through bends (ekf) asks for the path.

@@ -1,7 +1,10 @@
 #include "pipescope/report/run_quality.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+
+#include "pipescope/util/median.h"
 
 namespace pipescope {
 namespace {
@@ -67,6 +70,17 @@ RunQuality AssessRunQuality(const std::vector<FrameState>& states, const RunQual
   }
   quality.reliable = quality.reasons.empty();
   return quality;
+}
+
+RunQualityLimits KeyframeQualityLimits(const std::vector<int>& keyframe_frames,
+                                       const RunQualityLimits& base) {
+  std::vector<double> spacing;
+  for (std::size_t k = 1; k < keyframe_frames.size(); ++k) {
+    spacing.push_back(keyframe_frames[k] - keyframe_frames[k - 1]);
+  }
+  RunQualityLimits limits = base;
+  limits.max_predicted_stretch *= std::max(1, static_cast<int>(std::lround(Median(spacing))));
+  return limits;
 }
 
 nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits& limits) {

@@ -43,6 +43,14 @@ struct RunQuality {
 RunQuality AssessRunQuality(const std::vector<FrameState>& states,
                             const RunQualityLimits& limits = {});
 
+// For a method whose frames between key frames are interpolated (`map`): a key frame whose
+// relative pose was rejected makes every frame since the key frame before it predicted, and a
+// slow crawler has several frames between key frames (about 8 at 001's 1.3 mm a frame). The
+// stretch limit then counts key-frame steps: `base`'s stretch times the median spacing of
+// `keyframe_frames` (the key frames' frame indices, increasing), at least 1.
+RunQualityLimits KeyframeQualityLimits(const std::vector<int>& keyframe_frames,
+                                       const RunQualityLimits& base = {});
+
 // run.json's `quality` block: counts, shares, the longest stretch, the frame lists, `verdict`
 // ("reliable" or "unreliable") and `reasons`.
 nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits& limits = {});

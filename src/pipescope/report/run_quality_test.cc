@@ -40,6 +40,29 @@ TEST(RunQuality, AStretchOfPredictionsIsUnreliableAndSaysWhere) {
   EXPECT_NE(RunQualitySummary(quality).find("UNRELIABLE"), std::string::npos);
 }
 
+// A slow crawler's key frames lie 8 frames apart: one rejected key-frame step predicts 8 frames,
+// which is one step, not a stretch; five steps in a row still are.
+TEST(RunQuality, KeyframeSpacingScalesTheStretchLimit) {
+  const std::vector<int> every_eighth = {0, 8, 16, 23, 31, 40, 48};  // spacings 8, 8, 7, 8, 9, 8
+  const RunQualityLimits limits = KeyframeQualityLimits(every_eighth);
+  EXPECT_EQ(limits.max_predicted_stretch, 5 * 8);
+  EXPECT_EQ(limits.max_predicted_share, RunQualityLimits().max_predicted_share);
+
+  std::vector<FrameState> states = Measured(2000);  // shares stay under the 5 % limit
+  for (int i = 101; i <= 108; ++i) states[i] = P;
+  EXPECT_FALSE(AssessRunQuality(states).reliable);  // 8 frames against the per-frame limit of 5
+  EXPECT_TRUE(AssessRunQuality(states, limits).reliable);
+  for (int i = 101; i <= 148; ++i) states[i] = P;  // six steps
+  const RunQuality six_steps = AssessRunQuality(states, limits);
+  EXPECT_FALSE(six_steps.reliable);
+  ASSERT_EQ(six_steps.reasons.size(), 1u);
+  EXPECT_NE(six_steps.reasons[0].find("48 frames in a row"), std::string::npos);
+
+  // Every frame a key frame (1 cm a frame), or no spacing at all: the per-frame limit.
+  EXPECT_EQ(KeyframeQualityLimits({0, 1, 2, 3}).max_predicted_stretch, 5);
+  EXPECT_EQ(KeyframeQualityLimits({0}).max_predicted_stretch, 5);
+}
+
 TEST(RunQuality, SharesAboveTheLimitsAreUnreliable) {
   std::vector<FrameState> states = Measured(100);
   for (int i = 0; i < 100; i += 10) states[i] = P;  // 10 %, never two in a row
