@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <iostream>
 #include <mutex>
 #include <set>
@@ -23,6 +24,17 @@ std::multiset<std::filesystem::path>& Registered() {
   return paths;
 }
 
+// The run's other threads keep writing until _exit: a file created in a folder after
+// remove_all listed it makes the folder's own removal fail, so remove until it is gone.
+void RemoveWhileOthersWrite(const std::filesystem::path& path) {
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+    if (!std::filesystem::exists(path, ignored)) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
 void WaitForSignals(sigset_t signals) {
   int signal_number = 0;
   if (sigwait(&signals, &signal_number) != 0) return;
@@ -32,8 +44,7 @@ void WaitForSignals(sigset_t signals) {
                                                : "SIGTERM";
   std::cerr << "\npipescope: interrupted (" << name << ")";
   for (const std::filesystem::path& path : Registered()) {
-    std::error_code ignored;
-    std::filesystem::remove_all(path, ignored);
+    RemoveWhileOthersWrite(path);
     std::cerr << "; removed " << path.string();
   }
   std::cerr << "; outputs already in place are whole, nothing half-written is left" << std::endl;
