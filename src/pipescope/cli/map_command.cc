@@ -98,6 +98,47 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
 
 nlohmann::json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+// run.json `loop_closure` (001 §III-E).
+nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
+  nlohmann::json passes = nlohmann::json::array();
+  for (const SectionPass& pass : record.passes) {
+    passes.push_back({{"plan_section", pass.section}, {"toward_end", pass.toward_end}});
+  }
+  nlohmann::json edges = nlohmann::json::array();
+  for (const LoopEdgeRecord& edge : record.edges) {
+    edges.push_back({{"earlier_keyframe", edge.earlier_keyframe},
+                     {"later_keyframe", edge.later_keyframe},
+                     {"odometry_later_keyframe", edge.odometry_later_keyframe},
+                     {"distance_to_junction_m", edge.distance_m},
+                     {"matches", edge.matches},
+                     {"inliers", edge.inliers},
+                     {"rms_m", edge.rms_m},
+                     {"scale", edge.scale},
+                     {"accepted", edge.accepted},
+                     {"rejection", edge.rejection},
+                     {"translation_m", Vector(edge.earlier_from_later.translation())}});
+  }
+  nlohmann::json revisits = nlohmann::json::array();
+  for (const JunctionRevisit& revisit : record.revisits) {
+    revisits.push_back({{"junction", revisit.name},
+                        {"t_sections", revisit.t_sections},
+                        {"gap_before_m", revisit.gap_before_m},
+                        {"gap_after_m", revisit.gap_after_m},
+                        {"path_between_m", revisit.path_between_m}});
+  }
+  return {{"applied", record.applied},
+          {"why_not", record.why_not},
+          {"turns", record.turns},
+          {"passes", passes},
+          {"edges", edges},
+          {"revisits", revisits},
+          {"graph",
+           {{"converged", record.graph.converged},
+            {"initial_cost", record.graph.initial_cost},
+            {"final_cost", record.graph.final_cost},
+            {"iterations", record.graph.iterations}}}};
+}
+
 // run.json `t_intersections` (001 §III-D), and the junctions (named J1, J2, ... in the order
 // passed) whose centre a model placed, for junctions.yaml.
 nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
@@ -327,6 +368,11 @@ int RunMap(const RunFlags& flags) {
                 (t.modelled ? "; its centre in junctions.yaml is the end cylinders' estimate"
                             : ", and it is not in junctions.yaml"));
   }
+  report.Extra("loop_closure") = LoopClosureJson(result.loop_closure);
+  if (!result.loop_closure.applied &&
+      result.loop_closure.why_not.rfind("the run's turns", 0) == 0) {
+    report.Warn("no loop closure: " + result.loop_closure.why_not);
+  }
   nlohmann::json failed = nlohmann::json::array();
   for (const FisheyeFrameFailure& failure : result.failed_frames) {
     failed.push_back(
@@ -371,8 +417,9 @@ int RunMap(const RunFlags& flags) {
   for (const FisheyeKeyframe& keyframe : result.keyframes) {
     keyframe_frames.push_back(keyframe.frame_index);
   }
-  run.SetQuality(states, WindowConfirmationReasons(result, options),
-                 KeyframeQualityLimits(keyframe_frames));
+  std::vector<std::string> reasons = WindowConfirmationReasons(result, options);
+  for (const std::string& reason : RevisitReasons(result.loop_closure)) reasons.push_back(reason);
+  run.SetQuality(states, reasons, KeyframeQualityLimits(keyframe_frames));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

@@ -457,4 +457,10 @@ std::vector<std::vector<KeyframeOdometry::Observation>> KeyframeOdometry::Tracks
   return tracks;
 }
 
+int KeyframeOdometry::FirstKeyframeOfTrack(long track_id) const {
+  const auto found = tracks_.find(track_id);
+  if (found == tracks_.end() || found->second.observations.empty()) return -1;
+  return found->second.observations.front().keyframe;
+}
+
 }  // namespace pipescope

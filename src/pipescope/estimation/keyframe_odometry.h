@@ -147,6 +147,9 @@ class KeyframeOdometry {
   // `ids`, when given, receives each returned track's id.
   std::vector<std::vector<Observation>> TracksIn(int first, int last, int min_observations,
                                                  std::vector<long>* ids = nullptr) const;
+  // The key frame that first saw the feature track `track_id`, or -1 when there is no such
+  // track: a point moves with it when loop closure moves the key frames (001 §III-E).
+  int FirstKeyframeOfTrack(long track_id) const;
 
  private:
   struct Track {

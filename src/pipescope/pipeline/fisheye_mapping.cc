@@ -234,6 +234,23 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   AdjustTIntersections(camera, odometry, t_options, &result);
   {
     const StageClock<ProcessCpuTimer> clock;
+    LoopClosureInput input{manifest, camera, odometry, window.radius_m, {}, {}, {}};
+    std::vector<Eigen::Isometry3d> poses;
+    for (const FisheyeKeyframe& keyframe : result.keyframes) {
+      input.frame_index.push_back(keyframe.frame_index);
+      input.section_of.push_back(keyframe.section);
+      poses.push_back(keyframe.world_from_cam);
+    }
+    for (const FisheyeSection& section : result.sections) {
+      input.section_straight.push_back(section.view_class == PipeViewClass::kStraight);
+    }
+    result.loop_closure =
+        CloseLoops(input, options.loop_closure, &poses, &result.t_intersections, &result.points);
+    for (std::size_t k = 0; k < poses.size(); ++k) result.keyframes[k].world_from_cam = poses[k];
+    clock.AddTo(&result.stage_times, "loop_closure");
+  }
+  {
+    const StageClock<ProcessCpuTimer> clock;
     MappedRoute route;
     for (const FisheyeKeyframe& keyframe : result.keyframes) {
       route.frame_index.push_back(keyframe.frame_index);

@@ -11,6 +11,7 @@
 #include "pipescope/io/dataset.h"
 #include "pipescope/io/trajectory.h"
 #include "pipescope/pipeline/dense_map_pass.h"
+#include "pipescope/pipeline/loop_closure_pass.h"
 #include "pipescope/pipeline/t_intersection_pass.h"
 #include "pipescope/util/stage_times.h"
 
@@ -28,6 +29,7 @@ struct FisheyeMappingOptions {
   int min_cluster_size = 10;         // key frames; temporal filtering of the classes (001 Fig. 3d)
   KeyframeOdometryOptions odometry;  // odometry.window.radius_m comes from the dataset
   TIntersectionPassOptions t_intersections;  // radius, tau, Huber, MAD: odometry.window's
+  LoopClosurePassOptions loop_closure;       // 001 §III-E, after the Ts
   DenseMapPassOptions dense_map;             // 001 §IV-B, after the poses are final
   // After this many unusable frames in a row, tracking starts over from the next frame.
   int max_failures_in_row = 5;
@@ -79,6 +81,7 @@ struct FisheyeMappingResult {
   std::vector<FisheyeSection> sections;
   std::vector<OdometryWindowRecord> windows;
   std::vector<TIntersectionRecord> t_intersections;
+  LoopClosureRecord loop_closure;
   std::vector<DenseMapPiece> dense_map;
   std::vector<SparsePoint> points;
   std::vector<FisheyeFrameFailure> failed_frames;

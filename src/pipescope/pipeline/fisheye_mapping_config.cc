@@ -183,6 +183,22 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "t_max_axis_gap_radii",
           [](O& o) -> double& { return o.t_intersections.max_axis_gap_radii; }, 0.0, 100.0, "radii",
           "T model: the end cylinders' axes must pass this close to meet"),
+      // Loop closure (001 §III-E).
+      Flag<O>(
+          "loop_closure", [](O& o) -> bool& { return o.loop_closure.enabled; },
+          "close loops where the plan (scene.yaml with route_start) says a section was driven "
+          "twice"),
+      Number<O>(
+          "loop_pairs", [](O& o) -> int& { return o.loop_closure.candidates.max_pairs; }, 1, 1000,
+          "", "loop closure: at most this many key frame pairs per two passes of a section"),
+      Number<O>(
+          "loop_search_step_m", [](O& o) -> double& { return o.loop_closure.search_step_m; }, 0.005,
+          100.0, "m",
+          "loop closure: the later pass's key frames tried against each candidate, this far apart"),
+      Number<O>(
+          "loop_t_step_rotation_factor",
+          [](O& o) -> double& { return o.loop_closure.t_step_rotation_factor; }, 1.0, 1000.0, "",
+          "loop closure: a step inside a T may turn this many times more than a straight one"),
       // The dense appearance map (001 §IV-B).
       Flag<O>(
           "dense_map", [](O& o) -> bool& { return o.dense_map.enabled; },

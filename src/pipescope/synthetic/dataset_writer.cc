@@ -120,7 +120,9 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
 
   WriteTumTrajectory(staging / "groundtruth.tum", simulation.motion().Frames());
   WriteCameraYaml(staging / "camera.yaml", camera);
-  WriteSceneYaml(staging / "scene.yaml", layout.scene);
+  RouteStart route_start;
+  layout.route.Evaluate(layout.start_s_m, &route_start.position, &route_start.heading);
+  WriteSceneYaml(staging / "scene.yaml", layout.scene, route_start);
   if (simulation.scale_target() != nullptr) {
     WriteScaleTargetYaml(staging / "target.yaml", *simulation.scale_target());
   }

@@ -18,7 +18,8 @@ void EmitVector(YAML::Emitter& out, const char* key, const Eigen::Vector3d& valu
 
 }  // namespace
 
-void WriteSceneYaml(const std::filesystem::path& path, const Scene& scene) {
+void WriteSceneYaml(const std::filesystem::path& path, const Scene& scene,
+                    const std::optional<RouteStart>& route_start) {
   if (scene.sections().empty()) {
     throw std::invalid_argument("WriteSceneYaml: the scene has no sections");
   }
@@ -63,7 +64,14 @@ void WriteSceneYaml(const std::filesystem::path& path, const Scene& scene) {
     EmitVector(out, "center", junction.center);
     out << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap;
+  out << YAML::EndSeq;
+  if (route_start) {
+    out << YAML::Key << "route_start" << YAML::Value << YAML::BeginMap;
+    EmitVector(out, "position", route_start->position);
+    EmitVector(out, "heading", route_start->heading);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
   WriteTextFileAtomically(path, std::string(out.c_str()) + "\n");
 }
 

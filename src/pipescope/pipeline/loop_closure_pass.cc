@@ -1,0 +1,412 @@
+#include "pipescope/pipeline/loop_closure_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "pipescope/estimation/pipe_network_plan.h"
+#include "pipescope/estimation/rigid_point_alignment.h"
+#include "pipescope/feature/descriptor_matching.h"
+#include "pipescope/feature/sift_description.h"
+#include "pipescope/geometry/clock_position.h"
+#include "pipescope/io/image_source.h"
+#include "pipescope/pipeline/pipe_plan_yaml.h"
+#include "pipescope/util/error.h"
+
+namespace pipescope {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// The straight sections in the order driven, and the T section between each two (-1: none).
+struct SectionOrder {
+  std::vector<int> straight;
+  std::vector<int> t_between;  // t_between[i] lies between straight[i] and straight[i + 1]
+};
+
+SectionOrder OrderSections(const std::vector<bool>& section_straight) {
+  SectionOrder order;
+  int pending_t = -1;
+  for (int s = 0; s < static_cast<int>(section_straight.size()); ++s) {
+    if (!section_straight[s]) {
+      pending_t = s;
+      continue;
+    }
+    if (!order.straight.empty()) order.t_between.push_back(pending_t);
+    order.straight.push_back(s);
+    pending_t = -1;
+  }
+  return order;
+}
+
+// The direction of travel over about `path_m` of a section's key frames, at its end (`at_end`)
+// or its start.
+Eigen::Vector3d TravelDirection(const std::vector<int>& keyframes,
+                                const std::vector<Eigen::Isometry3d>& world_from_cam, bool at_end,
+                                double path_m) {
+  const int n = static_cast<int>(keyframes.size());
+  const int anchor = at_end ? n - 1 : 0;
+  const int step = at_end ? -1 : 1;
+  int other = anchor;
+  double path = 0.0;
+  while (other + step >= 0 && other + step < n && path < path_m) {
+    path += (world_from_cam[keyframes[other + step]].translation() -
+             world_from_cam[keyframes[other]].translation())
+                .norm();
+    other += step;
+  }
+  const Eigen::Vector3d d = world_from_cam[keyframes[anchor]].translation() -
+                            world_from_cam[keyframes[other]].translation();
+  return at_end ? d : Eigen::Vector3d(-d);
+}
+
+// Where the path turns at a T the model did not place: the midpoint of the closest approach of
+// the travel lines before and after it; for lines within 20 deg of parallel (a pass straight
+// through), the T section's middle key frame. Loop candidates only need the two passes' views to
+// overlap: the relative pose is measured on the images.
+Eigen::Vector3d PathCorner(const Eigen::Vector3d& end_before, const Eigen::Vector3d& direction_in,
+                           const Eigen::Vector3d& start_after, const Eigen::Vector3d& direction_out,
+                           const Eigen::Vector3d& t_middle) {
+  const Eigen::Vector3d u = direction_in.normalized(), v = direction_out.normalized();
+  const double b = u.dot(v);
+  if (1.0 - b * b < std::pow(std::sin(20.0 * kDegToRad), 2)) return t_middle;
+  const Eigen::Vector3d w = end_before - start_after;
+  const double s = (b * v.dot(w) - u.dot(w)) / (1.0 - b * b);
+  const double t = (v.dot(w) - b * u.dot(w)) / (1.0 - b * b);
+  return 0.5 * ((end_before + s * u) + (start_after + t * v));
+}
+
+// A key frame's map points in its own camera frame and their SIFT descriptors.
+struct KeyframeView {
+  std::vector<Eigen::Vector3d> points_in_camera;
+  cv::Mat descriptors;
+};
+
+KeyframeView DescribeKeyframe(const LoopClosureInput& input, const LoopClosurePassOptions& options,
+                              const std::unordered_map<long, Eigen::Vector3d>& point_of_track,
+                              int k, const Eigen::Isometry3d& world_from_cam, const cv::Mat& grey) {
+  std::vector<long> ids;
+  const auto tracks = input.odometry.TracksIn(k, k, 1, &ids);
+  const Eigen::Isometry3d cam_from_world = world_from_cam.inverse();
+  const float margin = 6.0f * options.descriptor_size_px;
+  KeyframeView view;
+  std::vector<Keypoint> keypoints;
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const auto point = point_of_track.find(ids[t]);
+    if (point == point_of_track.end()) continue;
+    const Eigen::Vector3d in_camera = cam_from_world * point->second;
+    if (in_camera.norm() > options.max_point_range_radii * input.radius_m) continue;
+    const Eigen::Vector2d& pixel = tracks[t].front().pixel;
+    if (pixel.x() < margin || pixel.y() < margin || pixel.x() > grey.cols - 1 - margin ||
+        pixel.y() > grey.rows - 1 - margin) {
+      continue;
+    }
+    keypoints.push_back({cv::Point2f(pixel.x(), pixel.y()), 0.f});
+    view.points_in_camera.push_back(in_camera);
+  }
+  if (!keypoints.empty()) {
+    view.descriptors = DescribeWithSift(grey, keypoints, {options.descriptor_size_px});
+  }
+  return view;
+}
+
+LoopEdgeRecord MeasureEdge(const LoopCandidate& candidate, const KeyframeView& earlier,
+                           const KeyframeView& later, double radius_m,
+                           const LoopClosurePassOptions& options) {
+  LoopEdgeRecord edge;
+  edge.earlier_keyframe = candidate.earlier;
+  edge.later_keyframe = candidate.later;
+  edge.distance_m = candidate.earlier_distance_m;
+  if (earlier.descriptors.empty() || later.descriptors.empty()) {
+    edge.rejection = "no described points";
+    return edge;
+  }
+  const std::vector<IndexMatch> matches = MatchDescriptors(earlier.descriptors, later.descriptors,
+                                                           {options.max_descriptor_ratio, true});
+  edge.matches = static_cast<int>(matches.size());
+  std::vector<Eigen::Vector3d> first, second;
+  for (const IndexMatch& match : matches) {
+    first.push_back(earlier.points_in_camera[match.first]);
+    second.push_back(later.points_in_camera[match.second]);
+  }
+  RigidAlignmentOptions alignment_options;
+  alignment_options.inlier_threshold_m = options.inlier_threshold_radii * radius_m;
+  alignment_options.with_scale = true;
+  alignment_options.seed = static_cast<unsigned long long>(candidate.earlier) * 7919ULL +
+                           static_cast<unsigned long long>(candidate.later);
+  const RigidAlignment alignment = AlignPointPairs(first, second, alignment_options);
+  edge.inliers = static_cast<int>(alignment.inliers.size());
+  edge.rms_m = alignment.rms_m;
+  edge.scale = alignment.scale;
+  edge.earlier_from_later = alignment.first_from_second;
+  const double turn_deg =
+      Eigen::AngleAxisd(alignment.first_from_second.linear()).angle() / kDegToRad;
+  if (!alignment.found || edge.inliers < options.min_inliers) {
+    edge.rejection = "too few inliers";
+  } else if (alignment.first_from_second.translation().norm() > radius_m) {
+    edge.rejection = "the two key frames more than a radius apart";
+  } else if (turn_deg > options.max_edge_rotation_deg) {
+    edge.rejection = "the two key frames turned by " + std::to_string(turn_deg) + " deg";
+  } else {
+    edge.accepted = true;
+  }
+  return edge;
+}
+
+// One passage of the run through a junction: the T between two straight sections.
+struct Passage {
+  int keyframe_before = 0;  // the straight section's last key frame before it
+  int t_record = -1;        // the adjusted T's record, -1: none
+  int tee = -1;             // the plan's tee, -1: a dead end
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+};
+
+double LargestGap(const std::vector<Passage>& passages, const std::vector<int>& indices) {
+  double gap = 0.0;
+  for (int a : indices) {
+    for (int b : indices) gap = std::max(gap, (passages[a].centre - passages[b].centre).norm());
+  }
+  return gap;
+}
+
+}  // namespace
+
+LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePassOptions& options,
+                             std::vector<Eigen::Isometry3d>* world_from_cam,
+                             std::vector<TIntersectionRecord>* t_intersections,
+                             std::vector<SparsePoint>* points) {
+  LoopClosureRecord record;
+  if (!options.enabled) {
+    record.why_not = "loop_closure is off";
+    return record;
+  }
+  if (input.manifest.scene_path.empty() || !input.manifest.pipe_up) {
+    record.why_not =
+        "the dataset has no plan of the network (scene.yaml with route_start, and pipe.up)";
+    return record;
+  }
+  std::optional<PipePlan> plan =
+      ReadPipePlan(input.manifest.scene_path, *input.manifest.pipe_up, &record.why_not);
+  if (!plan) return record;
+  const PlannedNetwork planned = BuildPlannedNetwork(*plan);
+
+  // The turns at the Ts between straight sections, in the map's frame about the camera's
+  // upright (the crawler drives upright; pipe.up says the same in the plan's frame).
+  const int keyframe_count = static_cast<int>(world_from_cam->size());
+  std::vector<std::vector<int>> keyframes_of_section(input.section_straight.size());
+  for (int k = 0; k < keyframe_count; ++k) keyframes_of_section[input.section_of[k]].push_back(k);
+  const SectionOrder order = OrderSections(input.section_straight);
+  std::vector<Eigen::Vector3d> corners;  // per T between straight sections
+  for (std::size_t i = 0; i + 1 < order.straight.size(); ++i) {
+    const std::vector<int>& before = keyframes_of_section[order.straight[i]];
+    const std::vector<int>& after = keyframes_of_section[order.straight[i + 1]];
+    const Eigen::Vector3d up = CameraUpright((*world_from_cam)[before.back()].linear());
+    const Eigen::Vector3d in =
+        TravelDirection(before, *world_from_cam, true, options.turn_direction_path_m);
+    const Eigen::Vector3d out =
+        TravelDirection(after, *world_from_cam, false, options.turn_direction_path_m);
+    record.turns.push_back(TurnDirection(in, out, up));
+    const int t_section = order.t_between[i];
+    const std::vector<int>& t_keyframes = t_section >= 0 ? keyframes_of_section[t_section] : before;
+    corners.push_back(
+        PathCorner((*world_from_cam)[before.back()].translation(), in,
+                   (*world_from_cam)[after.front()].translation(), out,
+                   (*world_from_cam)[t_keyframes[t_keyframes.size() / 2]].translation()));
+  }
+  try {
+    record.passes = NameSectionPasses(planned.network, planned.start, record.turns);
+  } catch (const InputError& error) {
+    record.why_not = std::string("the run's turns do not fit the plan: ") + error.what();
+    return record;
+  }
+
+  // Each junction passage's centre: the adjusted T's, else the path's corner there; each pass's
+  // junctions are the passages before and after it.
+  std::map<int, int> t_record_of_section;
+  for (int r = 0; r < static_cast<int>(t_intersections->size()); ++r) {
+    const TIntersectionRecord& t = (*t_intersections)[r];
+    if (t.rejection.empty()) t_record_of_section[t.section] = r;
+  }
+  std::vector<Passage> passages;
+  for (std::size_t i = 0; i + 1 < order.straight.size(); ++i) {
+    Passage passage;
+    passage.keyframe_before = keyframes_of_section[order.straight[i]].back();
+    const auto found = t_record_of_section.find(order.t_between[i]);
+    passage.t_record = found == t_record_of_section.end() ? -1 : found->second;
+    passage.centre =
+        passage.t_record >= 0 ? (*t_intersections)[passage.t_record].geometry.centre : corners[i];
+    const SectionPass& pass = record.passes[i];
+    passage.tee = planned.sections[pass.section].tee_at_end[pass.toward_end];
+    passages.push_back(passage);
+  }
+  std::vector<PassJunctions> passes;
+  for (std::size_t i = 0; i < order.straight.size(); ++i) {
+    PassJunctions pass{record.passes[i], std::nullopt, std::nullopt};
+    if (i > 0) pass.start_centroid = passages[i - 1].centre;
+    if (i + 1 < order.straight.size()) pass.end_centroid = passages[i].centre;
+    passes.push_back(pass);
+  }
+  std::map<int, std::vector<int>> passages_of_tee;
+  std::vector<std::vector<int>> revisit_passages;  // per revisit
+  for (int i = 0; i < static_cast<int>(passages.size()); ++i) {
+    if (passages[i].tee >= 0) passages_of_tee[passages[i].tee].push_back(i);
+  }
+  for (const auto& [tee, indices] : passages_of_tee) {
+    if (indices.size() < 2) continue;
+    JunctionRevisit revisit;
+    revisit.name = plan->tees[tee].name;
+    for (int i : indices) revisit.t_sections.push_back(order.t_between[i]);
+    revisit.gap_before_m = revisit.gap_after_m = LargestGap(passages, indices);
+    for (int k = passages[indices.front()].keyframe_before;
+         k < passages[indices.back()].keyframe_before; ++k) {
+      revisit.path_between_m +=
+          ((*world_from_cam)[k + 1].translation() - (*world_from_cam)[k].translation()).norm();
+    }
+    record.revisits.push_back(revisit);
+    revisit_passages.push_back(indices);
+  }
+  std::vector<int> pass_of_keyframe(keyframe_count, -1);  // index into passes
+  std::vector<Eigen::Vector3d> positions;
+  for (int k = 0; k < keyframe_count; ++k) {
+    positions.push_back((*world_from_cam)[k].translation());
+    const auto at = std::find(order.straight.begin(), order.straight.end(), input.section_of[k]);
+    if (at != order.straight.end())
+      pass_of_keyframe[k] = static_cast<int>(at - order.straight.begin());
+  }
+  const std::vector<LoopCandidate> candidates =
+      SelectLoopCandidates(positions, pass_of_keyframe, passes, options.candidates);
+  if (candidates.empty()) {
+    record.why_not = "no section was driven twice with a junction both passes placed";
+    return record;
+  }
+
+  // The later pass is searched over its whole length, a key frame every search_step_m of path:
+  // where the odometry failed, its distances to the junction are off by metres (route B: the
+  // second pass of T1-T4 came out 1.3 m long for 3 m), and the candidate it names sees other wall.
+  std::map<int, std::vector<int>> samples_of_pass;
+  for (const LoopCandidate& candidate : candidates) {
+    const int pass = pass_of_keyframe[candidate.later];
+    if (samples_of_pass.count(pass)) continue;
+    std::vector<int>& samples = samples_of_pass[pass];
+    double path = options.search_step_m;
+    for (int k = 0; k < keyframe_count; ++k) {
+      if (pass_of_keyframe[k] != pass) continue;
+      if (!samples.empty()) path += (positions[k] - positions[k - 1]).norm();
+      if (path < options.search_step_m) continue;
+      samples.push_back(k);
+      path = 0.0;
+    }
+  }
+  std::set<int> wanted_keyframes;
+  for (const LoopCandidate& candidate : candidates) wanted_keyframes.insert(candidate.earlier);
+  for (const auto& [pass, samples] : samples_of_pass) {
+    wanted_keyframes.insert(samples.begin(), samples.end());
+  }
+  std::unordered_map<int, int> keyframe_of_frame;
+  for (int k : wanted_keyframes) keyframe_of_frame[input.frame_index[k]] = k;
+  std::unordered_map<long, Eigen::Vector3d> point_of_track;
+  for (const SparsePoint& point : *points) {
+    if (point.track_id >= 0) point_of_track[point.track_id] = point.position;
+  }
+  ImageSourceOptions source_options{input.camera.Width(), input.camera.Height()};
+  source_options.wanted = [&](std::size_t index) {
+    return keyframe_of_frame.count(static_cast<int>(index)) > 0;
+  };
+  std::map<int, KeyframeView> views;
+  auto source = ImageSource::Open(input.manifest, source_options);
+  while (std::optional<Frame> frame = source->Next()) {
+    const auto found = keyframe_of_frame.find(static_cast<int>(frame->index));
+    if (found == keyframe_of_frame.end()) continue;
+    views[found->second] = DescribeKeyframe(input, options, point_of_track, found->second,
+                                            (*world_from_cam)[found->second], frame->grey);
+  }
+  std::vector<PoseGraphEdge> edges =
+      ConsecutivePoseEdges(*world_from_cam, options.step_translation_sigma_m,
+                           options.step_rotation_sigma_deg * kDegToRad);
+  const Eigen::Matrix<double, 6, 6> t_step_information = IsotropicPoseInformation(
+      options.step_translation_sigma_m,
+      options.t_step_rotation_factor * options.step_rotation_sigma_deg * kDegToRad);
+  for (PoseGraphEdge& edge : edges) {
+    if (!input.section_straight[input.section_of[edge.to]]) edge.information = t_step_information;
+  }
+  const Eigen::Matrix<double, 6, 6> loop_information = IsotropicPoseInformation(
+      options.loop_translation_sigma_m, options.loop_rotation_sigma_deg * kDegToRad);
+  int accepted = 0;
+  for (const LoopCandidate& candidate : candidates) {
+    LoopEdgeRecord best;
+    best.earlier_keyframe = candidate.earlier;
+    best.later_keyframe = candidate.later;
+    best.distance_m = candidate.earlier_distance_m;
+    best.rejection = "frame not read";
+    const auto earlier = views.find(candidate.earlier);
+    for (const int later : samples_of_pass[pass_of_keyframe[candidate.later]]) {
+      const auto view = views.find(later);
+      if (earlier == views.end() || view == views.end()) continue;
+      LoopCandidate tried = candidate;
+      tried.later = later;
+      const LoopEdgeRecord edge =
+          MeasureEdge(tried, earlier->second, view->second, input.radius_m, options);
+      if (best.rejection == "frame not read" || (edge.accepted && !best.accepted) ||
+          (edge.accepted == best.accepted && edge.inliers > best.inliers)) {
+        best = edge;
+      }
+    }
+    best.odometry_later_keyframe = candidate.later;
+    record.edges.push_back(best);
+    if (!best.accepted) continue;
+    edges.push_back(
+        {best.earlier_keyframe, best.later_keyframe, best.earlier_from_later, loop_information});
+    ++accepted;
+  }
+  if (accepted == 0) {
+    record.why_not = "no loop candidate gave a relative pose";
+    return record;
+  }
+
+  const std::vector<Eigen::Isometry3d> before = *world_from_cam;
+  record.graph = OptimisePoseGraph(edges, world_from_cam, options.graph);
+  record.applied = true;
+  // The structure moves with the key frames (001 §III-E): each point with the key frame that
+  // first saw it, each T with its P_r.
+  const auto correction = [&](int k) { return (*world_from_cam)[k] * before[k].inverse(); };
+  for (SparsePoint& point : *points) {
+    int k = point.track_id >= 0 ? input.odometry.FirstKeyframeOfTrack(point.track_id) : -1;
+    if (k < 0)
+      k = keyframes_of_section[point.section].empty() ? 0
+                                                      : keyframes_of_section[point.section].front();
+    point.position = correction(k) * point.position;
+  }
+  for (TIntersectionRecord& t : *t_intersections) {
+    const Eigen::Isometry3d c = correction(t.red_keyframe);
+    t.geometry.centre = c * t.geometry.centre;
+    t.geometry.red_direction = c.linear() * t.geometry.red_direction;
+    t.geometry.blue_direction = c.linear() * t.geometry.blue_direction;
+    t.geometry.world_from_blue_camera = c * t.geometry.world_from_blue_camera;
+  }
+  for (Passage& passage : passages) {
+    passage.centre = passage.t_record >= 0 ? (*t_intersections)[passage.t_record].geometry.centre
+                                           : correction(passage.keyframe_before) * passage.centre;
+  }
+  for (std::size_t r = 0; r < record.revisits.size(); ++r) {
+    record.revisits[r].gap_after_m = LargestGap(passages, revisit_passages[r]);
+  }
+  return record;
+}
+
+std::vector<std::string> RevisitReasons(const LoopClosureRecord& record, double max_gap_share) {
+  std::vector<std::string> reasons;
+  for (const JunctionRevisit& revisit : record.revisits) {
+    const double gap = record.applied ? revisit.gap_after_m : revisit.gap_before_m;
+    if (gap <= max_gap_share * revisit.path_between_m) continue;
+    reasons.push_back("the run passed junction " + revisit.name + " " +
+                      std::to_string(revisit.t_sections.size()) + " times and placed it up to " +
+                      std::to_string(gap) + " m apart over " +
+                      std::to_string(revisit.path_between_m) + " m of path" +
+                      (record.applied ? " after loop closure" : " (no loop closure)"));
+  }
+  return reasons;
+}
+
+}  // namespace pipescope

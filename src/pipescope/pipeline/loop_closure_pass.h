@@ -1,0 +1,112 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "pipescope/camera/camera.h"
+#include "pipescope/estimation/keyframe_odometry.h"
+#include "pipescope/estimation/loop_candidates.h"
+#include "pipescope/estimation/pose_graph.h"
+#include "pipescope/io/dataset.h"
+#include "pipescope/pipeline/t_intersection_pass.h"
+
+namespace pipescope {
+
+// 001 §III-E after the T-intersections: the network's plan (the dataset's scene.yaml with its
+// route_start, pipeline/pipe_plan_yaml.h) and the turns the run took name the section of every
+// straight pass; key frames of two passes of one section at equal distances from the junction at
+// its end are loop candidates; each candidate's relative pose comes from the two key frames'
+// own map points, matched by SIFT at their tracked corners and aligned rigidly (RANSAC); a pose
+// graph over every key frame (odometry edges and the accepted loop edges, Ceres) moves the key
+// frames, and their points and junctions move with them.
+struct LoopClosurePassOptions {
+  bool enabled = true;
+  LoopCandidateOptions candidates;  // 001 closed its loop with 15 pairs
+  // Turns: the travel directions over this much path before and after a T.
+  double turn_direction_path_m = 1.0;
+  float descriptor_size_px = 8.0f;  // SIFT keypoint diameter: the described patch ~7 times it
+  double max_descriptor_ratio = 0.8;
+  // Map points farther than this many radii from the camera are left out: their depth is the
+  // least certain.
+  double max_point_range_radii = 5.0;
+  // Each candidate's earlier key frame is matched against the later pass's key frames this far
+  // apart along its path, and the one with the most inliers is kept.
+  double search_step_m = 0.1;
+  double inlier_threshold_radii = 0.05;  // the rigid alignment's inlier distance
+  int min_inliers = 20;
+  // A loop edge joins two key frames of one pipe at one distance from its junction: they are
+  // within a radius of each other and turned by less than this, or the edge is refused.
+  double max_edge_rotation_deg = 20.0;
+  // The pose graph's edges (standard deviations on every axis): odometry steps; steps inside a
+  // T section, whose angle the T model measures only weakly (docs/fisheye_mapping.md), get their
+  // rotation's times t_step_rotation_factor; loop edges.
+  double step_translation_sigma_m = 0.001;
+  double step_rotation_sigma_deg = 0.05;
+  double t_step_rotation_factor = 10.0;
+  double loop_translation_sigma_m = 0.005;
+  double loop_rotation_sigma_deg = 0.5;
+  PoseGraphOptions graph;
+};
+
+// One loop candidate and what became of it.
+struct LoopEdgeRecord {
+  int earlier_keyframe = 0;
+  int later_keyframe = 0;           // the later pass's key frame that matched best
+  int odometry_later_keyframe = 0;  // the one at the same distance from the junction
+  double distance_m = 0.0;          // to the junction's centroid, earlier pass
+  int matches = 0;
+  int inliers = 0;
+  double rms_m = 0.0;
+  double scale = 1.0;  // of the later key frame's points against the earlier's
+  bool accepted = false;
+  std::string rejection;
+  Eigen::Isometry3d earlier_from_later = Eigen::Isometry3d::Identity();
+};
+
+// A junction the run passed more than once: where each passage put its centre (the adjusted
+// T's, else the corner of the path there), the largest distance between them before and after
+// the closure (the return error, 001 §IV-A).
+struct JunctionRevisit {
+  std::string name;             // the plan's tee
+  std::vector<int> t_sections;  // the T section of each passage, in the order passed
+  double gap_before_m = 0.0;
+  double gap_after_m = 0.0;     // after the closure; equal to gap_before_m when none was applied
+  double path_between_m = 0.0;  // key frame path from the first passage's P_r to the last's
+};
+
+struct LoopClosureRecord {
+  bool applied = false;
+  std::string why_not;              // when not applied
+  std::vector<int> turns;           // per T section passed: +1 left, -1 right, 0 straight
+  std::vector<SectionPass> passes;  // per straight section, its section of the plan
+  std::vector<LoopEdgeRecord> edges;
+  std::vector<JunctionRevisit> revisits;
+  PoseGraphResult graph;
+};
+
+// The key frames (`world_from_cam`, `section_of` into `sections` with `section_straight`), the
+// T records and the points are moved in place when loop edges were accepted. Throws InputError
+// when the dataset's scene.yaml is malformed.
+struct LoopClosureInput {
+  const DatasetManifest& manifest;
+  const Camera& camera;
+  const KeyframeOdometry& odometry;
+  double radius_m = 0.0;
+  std::vector<int> frame_index;  // per key frame
+  std::vector<int> section_of;   // per key frame
+  std::vector<bool> section_straight;
+};
+
+LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePassOptions& options,
+                             std::vector<Eigen::Isometry3d>* world_from_cam,
+                             std::vector<TIntersectionRecord>* t_intersections,
+                             std::vector<SparsePoint>* points);
+
+// What a run's revisits say of it: each junction whose passages still lie more than
+// `max_gap_share` of the path between them apart (after the closure, if one was applied) is a
+// reason the run is unreliable: the map disagrees with itself there.
+std::vector<std::string> RevisitReasons(const LoopClosureRecord& record,
+                                        double max_gap_share = 0.01);
+
+}  // namespace pipescope
