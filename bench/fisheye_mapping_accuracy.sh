@@ -14,7 +14,8 @@
 # `slow` runs the preset's own speed (9.5 mm/s at 7.5 fps, 1.3 mm a frame, its speed varying) on
 # two cuts: a 3 m straight pipe (2400 frames) and the first 1500 frames of route A (1.9 m: the
 # start arm, T1 and 0.6 m beyond), each at SEEDS (default: the default seed and 41).
-# Usage: bench/fisheye_mapping_accuracy.sh [BUILD_DIR] [OUT_DIR] [straight|network|both|head|route|slow]
+# `loop` maps route B's first 4400 frames (the T1-T4 side twice) with loop closure (001 §III-E).
+# Usage: bench/fisheye_mapping_accuracy.sh [BUILD_DIR] [OUT_DIR] [straight|network|both|head|route|slow|loop]
 set -euo pipefail
 BUILD_DIR=${1:-build}
 OUT=${2:-/tmp/pipescope_fisheye}
@@ -82,6 +83,38 @@ if [ "$WHICH" = slow ]; then
       "$P" map "$D" --out "$D-run" -q "${CONFIG_FLAGS[@]}" >/dev/null
       report "$D-run" "$D"
     done
+  done
+  exit 0
+fi
+if [ "$WHICH" = loop ]; then
+  # Route B's first 4400 frames at 1 cm a frame (start arm, straight through T1, T4, T3, T2, T1,
+  # T4 again, into T4's arm): the T1-T4 side driven twice, SEEDS (default: the default seed;
+  # docs/fisheye_mapping.md also gives 41), with loop_closure: true.
+  for seed in ${SEEDS:-default}; do
+    seed_flags=()
+    if [ "$seed" != default ]; then seed_flags=(--seed "$seed"); fi
+    simulate "route-B-4400-$seed" 4400 --set route=B "${seed_flags[@]}"
+    D=$OUT/route-B-4400-$seed
+    # The closure is off by default (docs/fisheye_mapping.md); CONFIG=FILE replaces this one.
+    loop_flags=("${CONFIG_FLAGS[@]}")
+    if [ ${#loop_flags[@]} -eq 0 ]; then
+      echo "loop_closure: true" >"$OUT/loop_closure.yaml"
+      loop_flags=(--config "$OUT/loop_closure.yaml")
+    fi
+    /usr/bin/time -v "$P" map "$D" --out "$D-run" -q "${loop_flags[@]}" >/dev/null 2>"$D-run.time"
+    grep -E "Elapsed|Maximum resident" "$D-run.time"
+    report "$D-run" "$D"
+    python3 - "$D-run" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1] + "/run.json"))["loop_closure"]
+print(f"  loop closure: applied {c['applied']} {c['why_not']}; turns {c['turns']}")
+for e in c["edges"]:
+    print(f"    edge {e['earlier_keyframe']}-{e['later_keyframe']}: {e['inliers']} of {e['matches']}"
+          f" inliers, {e['rms_deg']:.3f} deg, " + ("accepted" if e["accepted"] else e["rejection"]))
+for r in c["revisits"]:
+    print(f"    {r['junction']} passed {len(r['t_sections'])} times: {r['gap_before_m']:.3f} m apart"
+          f" before, {r['gap_after_m']:.3f} m after, over {r['path_between_m']:.2f} m of path")
+PY
   done
   exit 0
 fi

@@ -108,12 +108,10 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
   for (const LoopEdgeRecord& edge : record.edges) {
     edges.push_back({{"earlier_keyframe", edge.earlier_keyframe},
                      {"later_keyframe", edge.later_keyframe},
-                     {"odometry_later_keyframe", edge.odometry_later_keyframe},
-                     {"distance_to_junction_m", edge.distance_m},
+                     {"path_m", edge.path_m},
                      {"matches", edge.matches},
                      {"inliers", edge.inliers},
-                     {"rms_m", edge.rms_m},
-                     {"scale", edge.scale},
+                     {"rms_deg", edge.rms_deg},
                      {"accepted", edge.accepted},
                      {"rejection", edge.rejection},
                      {"translation_m", Vector(edge.earlier_from_later.translation())}});
@@ -130,6 +128,7 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
           {"why_not", record.why_not},
           {"turns", record.turns},
           {"passes", passes},
+          {"unmatched_reverse_passes", record.unmatched_reverse_passes},
           {"edges", edges},
           {"revisits", revisits},
           {"graph",

@@ -234,7 +234,7 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
   AdjustTIntersections(camera, odometry, t_options, &result);
   {
     const StageClock<ProcessCpuTimer> clock;
-    LoopClosureInput input{manifest, camera, odometry, window.radius_m, {}, {}, {}};
+    LoopClosureInput input{manifest, camera, odometry, window.radius_m, {}, {}, {}, {}};
     std::vector<Eigen::Isometry3d> poses;
     for (const FisheyeKeyframe& keyframe : result.keyframes) {
       input.frame_index.push_back(keyframe.frame_index);
@@ -243,6 +243,13 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
     }
     for (const FisheyeSection& section : result.sections) {
       input.section_straight.push_back(section.view_class == PipeViewClass::kStraight);
+    }
+    input.step_confirmed.assign(result.keyframes.size(), false);
+    for (const OdometryWindowRecord& window : result.windows) {
+      if (!window.straight || !window.rejection.empty()) continue;
+      for (int k = window.first_keyframe + 1; k <= window.last_keyframe; ++k) {
+        input.step_confirmed[k] = true;
+      }
     }
     result.loop_closure =
         CloseLoops(input, options.loop_closure, &poses, &result.t_intersections, &result.points);

@@ -6,10 +6,11 @@
 #include <set>
 #include <unordered_map>
 
+#include "pipescope/estimation/pass_consensus.h"
 #include "pipescope/estimation/pipe_network_plan.h"
-#include "pipescope/estimation/rigid_point_alignment.h"
 #include "pipescope/feature/descriptor_matching.h"
 #include "pipescope/feature/sift_description.h"
+#include "pipescope/geometry/bearing_pnp.h"
 #include "pipescope/geometry/clock_position.h"
 #include "pipescope/io/image_source.h"
 #include "pipescope/pipeline/pipe_plan_yaml.h"
@@ -78,8 +79,10 @@ Eigen::Vector3d PathCorner(const Eigen::Vector3d& end_before, const Eigen::Vecto
   return 0.5 * ((end_before + s * u) + (start_after + t * v));
 }
 
-// A key frame's map points in its own camera frame and their SIFT descriptors.
+// A key frame's tracked features: their bearings, their map points in the key frame's camera
+// frame (NaN where the track has none) and their SIFT descriptors.
 struct KeyframeView {
+  std::vector<Eigen::Vector3d> bearings;
   std::vector<Eigen::Vector3d> points_in_camera;
   cv::Mat descriptors;
 };
@@ -94,16 +97,20 @@ KeyframeView DescribeKeyframe(const LoopClosureInput& input, const LoopClosurePa
   KeyframeView view;
   std::vector<Keypoint> keypoints;
   for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const auto point = point_of_track.find(ids[t]);
-    if (point == point_of_track.end()) continue;
-    const Eigen::Vector3d in_camera = cam_from_world * point->second;
-    if (in_camera.norm() > options.max_point_range_radii * input.radius_m) continue;
     const Eigen::Vector2d& pixel = tracks[t].front().pixel;
     if (pixel.x() < margin || pixel.y() < margin || pixel.x() > grey.cols - 1 - margin ||
         pixel.y() > grey.rows - 1 - margin) {
       continue;
     }
+    Eigen::Vector3d in_camera = Eigen::Vector3d::Constant(std::nan(""));
+    const auto point = point_of_track.find(ids[t]);
+    if (point != point_of_track.end()) in_camera = cam_from_world * point->second;
+    // Far points' depth is the least certain.
+    if (in_camera.norm() > options.max_point_range_radii * input.radius_m) {
+      in_camera = Eigen::Vector3d::Constant(std::nan(""));
+    }
     keypoints.push_back({cv::Point2f(pixel.x(), pixel.y()), 0.f});
+    view.bearings.push_back(tracks[t].front().bearing);
     view.points_in_camera.push_back(in_camera);
   }
   if (!keypoints.empty()) {
@@ -112,40 +119,37 @@ KeyframeView DescribeKeyframe(const LoopClosureInput& input, const LoopClosurePa
   return view;
 }
 
+// The later key frame placed against the earlier one's map points (PnP on its bearings): the
+// later pass's own scale, which its odometry may have lost, plays no part.
 LoopEdgeRecord MeasureEdge(const LoopCandidate& candidate, const KeyframeView& earlier,
                            const KeyframeView& later, double radius_m,
                            const LoopClosurePassOptions& options) {
   LoopEdgeRecord edge;
   edge.earlier_keyframe = candidate.earlier;
   edge.later_keyframe = candidate.later;
-  edge.distance_m = candidate.earlier_distance_m;
   if (earlier.descriptors.empty() || later.descriptors.empty()) {
     edge.rejection = "no described points";
     return edge;
   }
   const std::vector<IndexMatch> matches = MatchDescriptors(earlier.descriptors, later.descriptors,
                                                            {options.max_descriptor_ratio, true});
-  edge.matches = static_cast<int>(matches.size());
-  std::vector<Eigen::Vector3d> first, second;
+  std::vector<Eigen::Vector3d> points, bearings;
   for (const IndexMatch& match : matches) {
-    first.push_back(earlier.points_in_camera[match.first]);
-    second.push_back(later.points_in_camera[match.second]);
+    if (!earlier.points_in_camera[match.first].allFinite()) continue;
+    points.push_back(earlier.points_in_camera[match.first]);
+    bearings.push_back(later.bearings[match.second]);
   }
-  RigidAlignmentOptions alignment_options;
-  alignment_options.inlier_threshold_m = options.inlier_threshold_radii * radius_m;
-  alignment_options.with_scale = true;
-  alignment_options.seed = static_cast<unsigned long long>(candidate.earlier) * 7919ULL +
-                           static_cast<unsigned long long>(candidate.later);
-  const RigidAlignment alignment = AlignPointPairs(first, second, alignment_options);
-  edge.inliers = static_cast<int>(alignment.inliers.size());
-  edge.rms_m = alignment.rms_m;
-  edge.scale = alignment.scale;
-  edge.earlier_from_later = alignment.first_from_second;
-  const double turn_deg =
-      Eigen::AngleAxisd(alignment.first_from_second.linear()).angle() / kDegToRad;
-  if (!alignment.found || edge.inliers < options.min_inliers) {
+  edge.matches = static_cast<int>(points.size());
+  BearingPnpOptions pnp_options;
+  pnp_options.max_angle_deg = options.max_angle_deg;
+  const BearingPnp pnp = SolveBearingPnp(points, bearings, pnp_options);
+  edge.inliers = static_cast<int>(pnp.inliers.size());
+  edge.rms_deg = pnp.rms_deg;
+  edge.earlier_from_later = pnp.cam_from_points.inverse();
+  const double turn_deg = Eigen::AngleAxisd(edge.earlier_from_later.linear()).angle() / kDegToRad;
+  if (!pnp.found || edge.inliers < options.min_inliers) {
     edge.rejection = "too few inliers";
-  } else if (alignment.first_from_second.translation().norm() > radius_m) {
+  } else if (edge.earlier_from_later.translation().norm() > radius_m) {
     edge.rejection = "the two key frames more than a radius apart";
   } else if (turn_deg > options.max_edge_rotation_deg) {
     edge.rejection = "the two key frames turned by " + std::to_string(turn_deg) + " deg";
@@ -178,10 +182,6 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
                              std::vector<TIntersectionRecord>* t_intersections,
                              std::vector<SparsePoint>* points) {
   LoopClosureRecord record;
-  if (!options.enabled) {
-    record.why_not = "loop_closure is off";
-    return record;
-  }
   if (input.manifest.scene_path.empty() || !input.manifest.pipe_up) {
     record.why_not =
         "the dataset has no plan of the network (scene.yaml with route_start, and pipe.up)";
@@ -241,13 +241,6 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     passage.tee = planned.sections[pass.section].tee_at_end[pass.toward_end];
     passages.push_back(passage);
   }
-  std::vector<PassJunctions> passes;
-  for (std::size_t i = 0; i < order.straight.size(); ++i) {
-    PassJunctions pass{record.passes[i], std::nullopt, std::nullopt};
-    if (i > 0) pass.start_centroid = passages[i - 1].centre;
-    if (i + 1 < order.straight.size()) pass.end_centroid = passages[i].centre;
-    passes.push_back(pass);
-  }
   std::map<int, std::vector<int>> passages_of_tee;
   std::vector<std::vector<int>> revisit_passages;  // per revisit
   for (int i = 0; i < static_cast<int>(passages.size()); ++i) {
@@ -267,7 +260,7 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     record.revisits.push_back(revisit);
     revisit_passages.push_back(indices);
   }
-  std::vector<int> pass_of_keyframe(keyframe_count, -1);  // index into passes
+  std::vector<int> pass_of_keyframe(keyframe_count, -1);  // index into order.straight
   std::vector<Eigen::Vector3d> positions;
   for (int k = 0; k < keyframe_count; ++k) {
     positions.push_back((*world_from_cam)[k].translation());
@@ -275,16 +268,44 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     if (at != order.straight.end())
       pass_of_keyframe[k] = static_cast<int>(at - order.straight.begin());
   }
-  const std::vector<LoopCandidate> candidates =
-      SelectLoopCandidates(positions, pass_of_keyframe, passes, options.candidates);
+  if (!options.enabled) {
+    record.why_not =
+        "loop_closure is off (the revisits are still measured; docs/fisheye_mapping.md says why "
+        "it is off by default)";
+    return record;
+  }
+  // Candidates: for every two passes of one section driven the same way, key frames spread
+  // evenly along the earlier pass, each to be matched against the whole later pass (below).
+  // 001 pairs key frames at equal distances from the junction at the section's end; where one
+  // pass's odometry lost its scale (route B's second T1-T4 pass: 1.3 m for 3 m) those pairs
+  // see different wall, and all of them lie at the junction's end of the section.
+  const int straight_passes = static_cast<int>(order.straight.size());
+  std::vector<std::vector<int>> keyframes_of_pass(straight_passes);
+  for (int k = 0; k < keyframe_count; ++k) {
+    if (pass_of_keyframe[k] >= 0) keyframes_of_pass[pass_of_keyframe[k]].push_back(k);
+  }
+  std::vector<LoopCandidate> candidates;
+  for (int a = 0; a < straight_passes; ++a) {
+    for (int b = a + 1; b < straight_passes; ++b) {
+      if (record.passes[a].section != record.passes[b].section) continue;
+      if (record.passes[a].toward_end != record.passes[b].toward_end) {
+        record.unmatched_reverse_passes.push_back({a, b});  // the wall seen from the other side
+        continue;
+      }
+      const std::vector<int>& earlier = keyframes_of_pass[a];
+      const int count = std::min<int>(options.candidates.max_pairs, earlier.size());
+      for (int c = 0; c < count; ++c) {
+        const int k = earlier[(2 * c + 1) * earlier.size() / (2 * count)];
+        candidates.push_back({k, keyframes_of_pass[b].front(), 0.0, 0.0});
+      }
+    }
+  }
   if (candidates.empty()) {
-    record.why_not = "no section was driven twice with a junction both passes placed";
+    record.why_not = "no section was driven twice the same way";
     return record;
   }
 
-  // The later pass is searched over its whole length, a key frame every search_step_m of path:
-  // where the odometry failed, its distances to the junction are off by metres (route B: the
-  // second pass of T1-T4 came out 1.3 m long for 3 m), and the candidate it names sees other wall.
+  // The later pass is searched over its whole length, a key frame every search_step_m of path.
   std::map<int, std::vector<int>> samples_of_pass;
   for (const LoopCandidate& candidate : candidates) {
     const int pass = pass_of_keyframe[candidate.later];
@@ -328,17 +349,22 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
   const Eigen::Matrix<double, 6, 6> t_step_information = IsotropicPoseInformation(
       options.step_translation_sigma_m,
       options.t_step_rotation_factor * options.step_rotation_sigma_deg * kDegToRad);
+  const Eigen::Matrix<double, 6, 6> unconfirmed_step_information = IsotropicPoseInformation(
+      options.unconfirmed_step_factor * options.step_translation_sigma_m,
+      options.unconfirmed_step_factor * options.step_rotation_sigma_deg * kDegToRad);
   for (PoseGraphEdge& edge : edges) {
-    if (!input.section_straight[input.section_of[edge.to]]) edge.information = t_step_information;
+    if (!input.section_straight[input.section_of[edge.to]]) {
+      edge.information = t_step_information;
+    } else if (!input.step_confirmed[edge.to]) {
+      edge.information = unconfirmed_step_information;
+    }
   }
   const Eigen::Matrix<double, 6, 6> loop_information = IsotropicPoseInformation(
       options.loop_translation_sigma_m, options.loop_rotation_sigma_deg * kDegToRad);
-  int accepted = 0;
   for (const LoopCandidate& candidate : candidates) {
     LoopEdgeRecord best;
     best.earlier_keyframe = candidate.earlier;
     best.later_keyframe = candidate.later;
-    best.distance_m = candidate.earlier_distance_m;
     best.rejection = "frame not read";
     const auto earlier = views.find(candidate.earlier);
     for (const int later : samples_of_pass[pass_of_keyframe[candidate.later]]) {
@@ -353,12 +379,48 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
         best = edge;
       }
     }
-    best.odometry_later_keyframe = candidate.later;
     record.edges.push_back(best);
-    if (!best.accepted) continue;
-    edges.push_back(
-        {best.earlier_keyframe, best.later_keyframe, best.earlier_from_later, loop_information});
-    ++accepted;
+  }
+  // Only edges that agree with each other along the two passes (a wall pattern repeating along
+  // the pipe gives confirmed edges metres apart).
+  std::vector<double> path_along_pass(keyframe_count, 0.0);
+  for (int k = 1; k < keyframe_count; ++k) {
+    if (pass_of_keyframe[k] >= 0 && pass_of_keyframe[k] == pass_of_keyframe[k - 1]) {
+      path_along_pass[k] = path_along_pass[k - 1] + (positions[k] - positions[k - 1]).norm();
+    }
+  }
+  for (LoopEdgeRecord& edge : record.edges) edge.path_m = path_along_pass[edge.earlier_keyframe];
+  std::map<std::pair<int, int>, std::vector<int>> accepted_of_passes;
+  for (int e = 0; e < static_cast<int>(record.edges.size()); ++e) {
+    const LoopEdgeRecord& edge = record.edges[e];
+    if (!edge.accepted) continue;
+    accepted_of_passes[{pass_of_keyframe[edge.earlier_keyframe],
+                        pass_of_keyframe[edge.later_keyframe]}]
+        .push_back(e);
+  }
+  int accepted = 0;
+  for (const auto& [pass_pair, indices] : accepted_of_passes) {
+    std::vector<double> earlier_path, later_path;
+    for (int e : indices) {
+      earlier_path.push_back(path_along_pass[record.edges[e].earlier_keyframe]);
+      later_path.push_back(path_along_pass[record.edges[e].later_keyframe]);
+    }
+    std::vector<int> agreeing = ConsistentLoopEdges(earlier_path, later_path);
+    if (static_cast<int>(agreeing.size()) < options.min_agreeing_edges) agreeing.clear();
+    for (int i = 0; i < static_cast<int>(indices.size()); ++i) {
+      LoopEdgeRecord& edge = record.edges[indices[i]];
+      if (std::find(agreeing.begin(), agreeing.end(), i) == agreeing.end()) {
+        edge.accepted = false;
+        edge.rejection = agreeing.empty()
+                             ? "fewer than " + std::to_string(options.min_agreeing_edges) +
+                                   " edges of the two passes agree"
+                             : "off the line of the other edges (a repeated pattern)";
+        continue;
+      }
+      edges.push_back(
+          {edge.earlier_keyframe, edge.later_keyframe, edge.earlier_from_later, loop_information});
+      ++accepted;
+    }
   }
   if (accepted == 0) {
     record.why_not = "no loop candidate gave a relative pose";
