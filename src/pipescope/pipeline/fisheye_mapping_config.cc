@@ -189,7 +189,7 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "close loops where the plan (scene.yaml with route_start) says a section was driven "
           "twice (off: its edges can pair places a wall pattern apart)"),
       Number<O>(
-          "loop_pairs", [](O& o) -> int& { return o.loop_closure.candidates.max_pairs; }, 1, 1000,
+          "loop_pairs", [](O& o) -> int& { return o.loop_closure.max_pairs; }, 1, 1000,
           "", "loop closure: at most this many key frame pairs per two passes of a section"),
       Number<O>(
           "loop_search_step_m", [](O& o) -> double& { return o.loop_closure.search_step_m; }, 0.005,

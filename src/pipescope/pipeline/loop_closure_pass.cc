@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <unordered_map>
+#include <utility>
 
 #include "pipescope/estimation/pass_consensus.h"
 #include "pipescope/estimation/pipe_network_plan.h"
@@ -44,9 +45,9 @@ SectionOrder OrderSections(const std::vector<bool>& section_straight) {
 
 // The direction of travel over about `path_m` of a section's key frames, at its end (`at_end`)
 // or its start.
-Eigen::Vector3d TravelDirection(const std::vector<int>& keyframes,
-                                const std::vector<Eigen::Isometry3d>& world_from_cam, bool at_end,
-                                double path_m) {
+Eigen::Vector3d PathDirection(const std::vector<int>& keyframes,
+                              const std::vector<Eigen::Isometry3d>& world_from_cam, bool at_end,
+                              double path_m) {
   const int n = static_cast<int>(keyframes.size());
   const int anchor = at_end ? n - 1 : 0;
   const int step = at_end ? -1 : 1;
@@ -78,6 +79,12 @@ Eigen::Vector3d PathCorner(const Eigen::Vector3d& end_before, const Eigen::Vecto
   const double t = (v.dot(w) - b * u.dot(w)) / (1.0 - b * b);
   return 0.5 * ((end_before + s * u) + (start_after + t * v));
 }
+
+// A key frame of an earlier pass, to be matched against the later pass `later_pass`.
+struct Candidate {
+  int earlier_keyframe;
+  int later_pass;
+};
 
 // A key frame's tracked features: their bearings, their map points in the key frame's camera
 // frame (NaN where the track has none) and their SIFT descriptors.
@@ -121,12 +128,12 @@ KeyframeView DescribeKeyframe(const LoopClosureInput& input, const LoopClosurePa
 
 // The later key frame placed against the earlier one's map points (PnP on its bearings): the
 // later pass's own scale, which its odometry may have lost, plays no part.
-LoopEdgeRecord MeasureEdge(const LoopCandidate& candidate, const KeyframeView& earlier,
+LoopEdgeRecord MeasureEdge(int earlier_keyframe, int later_keyframe, const KeyframeView& earlier,
                            const KeyframeView& later, double radius_m,
                            const LoopClosurePassOptions& options) {
   LoopEdgeRecord edge;
-  edge.earlier_keyframe = candidate.earlier;
-  edge.later_keyframe = candidate.later;
+  edge.earlier_keyframe = earlier_keyframe;
+  edge.later_keyframe = later_keyframe;
   if (earlier.descriptors.empty() || later.descriptors.empty()) {
     edge.rejection = "no described points";
     return edge;
@@ -204,9 +211,9 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     const std::vector<int>& after = keyframes_of_section[order.straight[i + 1]];
     const Eigen::Vector3d up = CameraUpright((*world_from_cam)[before.back()].linear());
     const Eigen::Vector3d in =
-        TravelDirection(before, *world_from_cam, true, options.turn_direction_path_m);
+        PathDirection(before, *world_from_cam, true, options.turn_direction_path_m);
     const Eigen::Vector3d out =
-        TravelDirection(after, *world_from_cam, false, options.turn_direction_path_m);
+        PathDirection(after, *world_from_cam, false, options.turn_direction_path_m);
     record.turns.push_back(TurnDirection(in, out, up));
     const int t_section = order.t_between[i];
     const std::vector<int>& t_keyframes = t_section >= 0 ? keyframes_of_section[t_section] : before;
@@ -284,7 +291,7 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
   for (int k = 0; k < keyframe_count; ++k) {
     if (pass_of_keyframe[k] >= 0) keyframes_of_pass[pass_of_keyframe[k]].push_back(k);
   }
-  std::vector<LoopCandidate> candidates;
+  std::vector<Candidate> candidates;
   for (int a = 0; a < straight_passes; ++a) {
     for (int b = a + 1; b < straight_passes; ++b) {
       if (record.passes[a].section != record.passes[b].section) continue;
@@ -293,10 +300,9 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
         continue;
       }
       const std::vector<int>& earlier = keyframes_of_pass[a];
-      const int count = std::min<int>(options.candidates.max_pairs, earlier.size());
+      const int count = std::min<int>(options.max_pairs, earlier.size());
       for (int c = 0; c < count; ++c) {
-        const int k = earlier[(2 * c + 1) * earlier.size() / (2 * count)];
-        candidates.push_back({k, keyframes_of_pass[b].front(), 0.0, 0.0});
+        candidates.push_back({earlier[(2 * c + 1) * earlier.size() / (2 * count)], b});
       }
     }
   }
@@ -307,8 +313,8 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
 
   // The later pass is searched over its whole length, a key frame every search_step_m of path.
   std::map<int, std::vector<int>> samples_of_pass;
-  for (const LoopCandidate& candidate : candidates) {
-    const int pass = pass_of_keyframe[candidate.later];
+  for (const Candidate& candidate : candidates) {
+    const int pass = candidate.later_pass;
     if (samples_of_pass.count(pass)) continue;
     std::vector<int>& samples = samples_of_pass[pass];
     double path = options.search_step_m;
@@ -321,7 +327,7 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     }
   }
   std::set<int> wanted_keyframes;
-  for (const LoopCandidate& candidate : candidates) wanted_keyframes.insert(candidate.earlier);
+  for (const Candidate& candidate : candidates) wanted_keyframes.insert(candidate.earlier_keyframe);
   for (const auto& [pass, samples] : samples_of_pass) {
     wanted_keyframes.insert(samples.begin(), samples.end());
   }
@@ -361,19 +367,16 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
   }
   const Eigen::Matrix<double, 6, 6> loop_information = IsotropicPoseInformation(
       options.loop_translation_sigma_m, options.loop_rotation_sigma_deg * kDegToRad);
-  for (const LoopCandidate& candidate : candidates) {
+  for (const Candidate& candidate : candidates) {
     LoopEdgeRecord best;
-    best.earlier_keyframe = candidate.earlier;
-    best.later_keyframe = candidate.later;
+    best.earlier_keyframe = candidate.earlier_keyframe;
     best.rejection = "frame not read";
-    const auto earlier = views.find(candidate.earlier);
-    for (const int later : samples_of_pass[pass_of_keyframe[candidate.later]]) {
+    const auto earlier = views.find(candidate.earlier_keyframe);
+    for (const int later : samples_of_pass[candidate.later_pass]) {
       const auto view = views.find(later);
       if (earlier == views.end() || view == views.end()) continue;
-      LoopCandidate tried = candidate;
-      tried.later = later;
-      const LoopEdgeRecord edge =
-          MeasureEdge(tried, earlier->second, view->second, input.radius_m, options);
+      const LoopEdgeRecord edge = MeasureEdge(candidate.earlier_keyframe, later, earlier->second,
+                                              view->second, input.radius_m, options);
       if (best.rejection == "frame not read" || (edge.accepted && !best.accepted) ||
           (edge.accepted == best.accepted && edge.inliers > best.inliers)) {
         best = edge;

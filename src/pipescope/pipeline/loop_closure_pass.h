@@ -6,7 +6,7 @@
 
 #include "pipescope/camera/camera.h"
 #include "pipescope/estimation/keyframe_odometry.h"
-#include "pipescope/estimation/loop_candidates.h"
+#include "pipescope/estimation/loop_candidates.h"  // SectionPass
 #include "pipescope/estimation/pose_graph.h"
 #include "pipescope/io/dataset.h"
 #include "pipescope/pipeline/t_intersection_pass.h"
@@ -26,7 +26,7 @@ struct LoopClosurePassOptions {
   // it applied paired places 1 and 4 m apart, where the simulated wall repeats every metre
   // (docs/fisheye_mapping.md). Off, the passes are still named and the revisits measured.
   bool enabled = false;
-  LoopCandidateOptions candidates;  // max_pairs: 001 closed its loop with 15 pairs
+  int max_pairs = 15;  // key frames along the earlier of two passes; 001 closed its loop with 15
   // Turns: the travel directions over this much path before and after a T.
   double turn_direction_path_m = 1.0;
   float descriptor_size_px = 8.0f;  // SIFT keypoint diameter: the described patch ~7 times it
