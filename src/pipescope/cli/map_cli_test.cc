@@ -358,6 +358,13 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   // last half metre turned; held at that section's last key frame (t_red_lead_radii: 0) the T came
   // out at 95.6 degrees, held half a metre before it at 93.3.
   EXPECT_NEAR(t["phi_deg"].get<double>(), 90.0, 4.5);
+  // Nothing else in the run checks that angle, and the run says so.
+  bool turn_stated = false;
+  for (const nlohmann::json& warning : report["warnings"]) {
+    turn_stated = turn_stated ||
+                  warning.get<std::string>().find("rest on the T model alone") != std::string::npos;
+  }
+  EXPECT_TRUE(turn_stated) << report["warnings"].dump();
   const nlohmann::json& red_section = report["sections"][t["section"].get<int>() - 1];
   EXPECT_LT(t["red_keyframe"].get<int>(), red_section["last_keyframe"].get<int>());
   const std::vector<Junction> junctions = ReadEstimatedJunctions(dir / "run" / "junctions.yaml");
