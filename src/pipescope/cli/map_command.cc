@@ -369,7 +369,7 @@ int RunMap(const RunFlags& flags) {
                             : ", and it is not in junctions.yaml"));
   }
   // The T model is the only measurement of a turn's angle (001 §III-D): nothing else in the run
-  // checks it, and on the simulated networks it erred by up to 12 degrees while every straight
+  // checks it, and on the simulated networks it erred by up to 12.6 degrees while every straight
   // side held within 0.51 % (docs/fisheye_mapping.md, "Guided matching at ZNCC 0.75").
   std::string turns;
   for (const TIntersectionRecord& t : result.t_intersections) {
@@ -378,7 +378,7 @@ int RunMap(const RunFlags& flags) {
   }
   if (!turns.empty()) {
     report.Warn("the angles of the turns at the T-intersections (phi " + turns +
-                " deg) rest on the T model alone, which erred by 1-12 deg on the simulated "
+                " deg) rest on the T model alone, which erred by up to 13 deg on the simulated "
                 "networks: positions past a turn and distances between different pipes are not "
                 "confirmed; distances along each pipe do not depend on them");
   }

@@ -54,9 +54,10 @@ struct GuidedZnccOptions {
   // 0.85 before: on a plain stretch of route B's wall the search then carried 10-45 features a
   // key frame (130-380 elsewhere), the tracks stayed one key frame long, and the windows there
   // failed one after another; at 0.75 twice as many are carried and route B's straight windows
-  // hold (2 of 407 rejected, was 144; seed 41, held out: 1, was 138), and the guided matches
-  // of FisheyeTracking.GuidedMatchesLieWhereTheTruePosesPutThem stay within 1 px of the truth
-  // (docs/fisheye_mapping.md, "Why a window can go wrong").
+  // hold (2 of 407 rejected, was 144; seed 41, held out: 1, was 138). The guided matches of
+  // FisheyeTracking.GuidedMatchesLieWhereTheTruePosesPutThem stay within 1 px of the truth at
+  // either value; that clean wall does not tell them apart (docs/fisheye_mapping.md, "Guided
+  // matching at ZNCC 0.75").
   double min_zncc = 0.75;
   // The best score must beat the best outside its 3x3 neighbourhood by this margin (a unique
   // peak along the epipolar region).
