@@ -358,13 +358,16 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   // last half metre turned; held at that section's last key frame (t_red_lead_radii: 0) the T came
   // out at 95.6 degrees, held half a metre before it at 93.3.
   EXPECT_NEAR(t["phi_deg"].get<double>(), 90.0, 4.5);
-  // Nothing else in the run checks that angle, and the run says so.
-  bool turn_stated = false;
-  for (const nlohmann::json& warning : report["warnings"]) {
-    turn_stated = turn_stated ||
-                  warning.get<std::string>().find("rest on the T model alone") != std::string::npos;
-  }
-  EXPECT_TRUE(turn_stated) << report["warnings"].dump();
+  // Nothing else in the run checks that angle (no loop), and the run says so: its positions past
+  // the turn are unconfirmed, its distances along the pipe are not.
+  const nlohmann::json& quality = report["quality"];
+  EXPECT_EQ(quality["verdict"], "unreliable");
+  ASSERT_EQ(quality["position_reasons"].size(), 1u) << quality.dump();
+  EXPECT_NE(quality["position_reasons"][0].get<std::string>().find(
+                "junction J1 (key frames " + std::to_string(t["red_keyframe"].get<int>())),
+            std::string::npos)
+      << quality["position_reasons"];
+  EXPECT_EQ(quality["along_pipe_verdict"], "reliable") << quality["reasons"];
   const nlohmann::json& red_section = report["sections"][t["section"].get<int>() - 1];
   EXPECT_LT(t["red_keyframe"].get<int>(), red_section["last_keyframe"].get<int>());
   const std::vector<Junction> junctions = ReadEstimatedJunctions(dir / "run" / "junctions.yaml");

@@ -2,7 +2,6 @@
 // trajectory.tum, keyframes.tum, points_sparse.ply, points_dense.ply and a dense mosaic per
 // straight section, classification.png, junctions.yaml, run.json and, with ground truth,
 // metrics.json.
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -23,6 +22,7 @@
 #include "pipescope/mapping/dense_appearance_ply.h"
 #include "pipescope/pipeline/fisheye_mapping.h"
 #include "pipescope/pipeline/fisheye_mapping_config.h"
+#include "pipescope/pipeline/turn_confirmation.h"
 #include "pipescope/pipeline/window_confirmation.h"
 #include "pipescope/report/run_directory.h"
 #include "pipescope/util/error.h"
@@ -368,20 +368,6 @@ int RunMap(const RunFlags& flags) {
                 (t.modelled ? "; its centre in junctions.yaml is the end cylinders' estimate"
                             : ", and it is not in junctions.yaml"));
   }
-  // The T model is the only measurement of a turn's angle (001 §III-D): nothing else in the run
-  // checks it, and on the simulated networks it erred by up to 12.6 degrees while every straight
-  // side held within 0.51 % (docs/fisheye_mapping.md, "Guided matching at ZNCC 0.75").
-  std::string turns;
-  for (const TIntersectionRecord& t : result.t_intersections) {
-    if (!t.rejection.empty() || !t.modelled) continue;
-    turns += fmt::format("{}{:.1f}", turns.empty() ? "" : ", ", t.model[kPhi] * 180.0 / M_PI);
-  }
-  if (!turns.empty()) {
-    report.Warn("the angles of the turns at the T-intersections (phi " + turns +
-                " deg) rest on the T model alone, which erred by up to 13 deg on the simulated "
-                "networks: positions past a turn and distances between different pipes are not "
-                "confirmed; distances along each pipe do not depend on them");
-  }
   report.Extra("loop_closure") = LoopClosureJson(result.loop_closure);
   if (!result.loop_closure.applied &&
       result.loop_closure.why_not.rfind("the run's turns", 0) == 0) {
@@ -433,7 +419,16 @@ int RunMap(const RunFlags& flags) {
   }
   std::vector<std::string> reasons = WindowConfirmationReasons(result, options);
   for (const std::string& reason : RevisitReasons(result.loop_closure)) reasons.push_back(reason);
-  run.SetQuality(states, reasons, KeyframeQualityLimits(keyframe_frames));
+  // A turn's angle rests on the T model alone unless a closed loop confirms it: the positions
+  // past it are then unconfirmed, while the distances along each pipe stand.
+  std::vector<std::string> junction_names;
+  std::size_t next_junction = 0;
+  for (const TIntersectionRecord& t : result.t_intersections) {
+    junction_names.push_back(t.modelled ? junctions[next_junction++].name : "");
+  }
+  run.SetQuality(
+      states, reasons, KeyframeQualityLimits(keyframe_frames),
+      UnconfirmedTurnReasons(result.t_intersections, junction_names, result.loop_closure));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

@@ -36,6 +36,12 @@ struct Metrics {
   std::optional<double> forward_error_pct;
   std::optional<double> reverse_error_pct;
   std::optional<double> return_error_pct;  // 000 eq. 51.
+  // Length of the path travelled (every run): what distances along the pipe measure through a
+  // network's turns, where the net distance above is the chord from start to end, which the
+  // turns' angles move. Unset when path_gt_m is 0.
+  double path_gt_m = 0;
+  double path_est_m = 0;
+  std::optional<double> path_error_pct;
 
   double ate_rmse_m = 0;
   double ate_max_m = 0;

@@ -44,6 +44,9 @@ nlohmann::json MetricsToJson(const Metrics& metrics) {
   json["forward_error_pct"] = OptionalToJson(metrics.forward_error_pct);
   json["reverse_error_pct"] = OptionalToJson(metrics.reverse_error_pct);
   json["return_error_pct"] = OptionalToJson(metrics.return_error_pct);
+  json["path_gt_m"] = metrics.path_gt_m;
+  json["path_est_m"] = metrics.path_est_m;
+  json["path_error_pct"] = OptionalToJson(metrics.path_error_pct);
   json["ate_rmse_m"] = metrics.ate_rmse_m;
   json["ate_max_m"] = metrics.ate_max_m;
   json["rot_rmse_deg"] = metrics.rot_rmse_deg;
@@ -85,6 +88,10 @@ std::string MetricsToTable(const Metrics& metrics) {
     rows.push_back(
         {"return_error_pct", FormatOptional("%.3f %%", metrics.return_error_pct, kNotApplicable)});
   }
+  rows.push_back({"path_gt_m", Format("%.4f m", metrics.path_gt_m)});
+  rows.push_back({"path_est_m", Format("%.4f m", metrics.path_est_m)});
+  rows.push_back(
+      {"path_error_pct", FormatOptional("%.3f %%", metrics.path_error_pct, kNotApplicable)});
   rows.push_back({"alignment", AlignmentName(metrics.alignment)});
   if (metrics.scale) rows.push_back({"scale", Format("%.6f", *metrics.scale)});
   rows.push_back({"ate_rmse_m", Format("%.4f m", metrics.ate_rmse_m)});

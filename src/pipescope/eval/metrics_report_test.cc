@@ -8,12 +8,13 @@ namespace pipescope {
 namespace {
 
 const std::set<std::string> kMetricsKeys = {
-    "frames_gt",         "frames_est",        "frames_matched",
-    "distance_gt_m",     "distance_est_m",    "distance_error_pct",
-    "forward_error_pct", "reverse_error_pct", "return_error_pct",
-    "ate_rmse_m",        "ate_max_m",         "rot_rmse_deg",
-    "rot_max_deg",       "alignment",         "scale",
-    "rpe_1m_pct",        "junction_distances"};
+    "frames_gt",         "frames_est",         "frames_matched",
+    "distance_gt_m",     "distance_est_m",     "distance_error_pct",
+    "forward_error_pct", "reverse_error_pct",  "return_error_pct",
+    "ate_rmse_m",        "ate_max_m",          "rot_rmse_deg",
+    "rot_max_deg",       "alignment",          "scale",
+    "rpe_1m_pct",        "junction_distances", "path_gt_m",
+    "path_est_m",        "path_error_pct"};
 
 std::set<std::string> Keys(const nlohmann::json& json) {
   std::set<std::string> keys;

@@ -24,6 +24,8 @@ void CheckOptions(const EvaluationOptions& options) {
   if (!(options.rpe_segment_m > 0)) {
     throw std::invalid_argument("EvaluationOptions: rpe_segment_m must be positive");
   }
+  if (!(options.path_step_m >= 0))
+    throw std::invalid_argument("EvaluationOptions: path_step_m < 0");
   if (!(options.min_return_fraction > 0 && options.min_return_fraction <= 1)) {
     throw std::invalid_argument("EvaluationOptions: min_return_fraction outside (0, 1]");
   }
@@ -83,6 +85,26 @@ void ComputeDistances(const MatchedPoses& poses, double min_return_fraction, Met
   metrics->return_error_pct = 100.0 *
                               std::abs((forward_est - reverse_est) - (forward_gt - reverse_gt)) /
                               metrics->distance_gt_m;
+}
+
+// The length of the path travelled, on both trajectories over the same frames: those where the
+// ground truth has advanced at least `step_m` since the last one taken, and the last frame.
+void ComputePathLengths(const MatchedPoses& poses, double step_m, Metrics* metrics) {
+  const auto& gt = poses.gt_positions;
+  const auto& est = poses.est_positions;
+  std::size_t last_taken = 0;
+  double gt_since = 0.0;
+  for (std::size_t i = 1; i < gt.size(); ++i) {
+    gt_since += (gt[i] - gt[i - 1]).norm();
+    if (gt_since < step_m && i + 1 < gt.size()) continue;
+    metrics->path_gt_m += (gt[i] - gt[last_taken]).norm();
+    metrics->path_est_m += (est[i] - est[last_taken]).norm();
+    last_taken = i;
+    gt_since = 0.0;
+  }
+  if (metrics->path_gt_m > 0) {
+    metrics->path_error_pct = PercentError(metrics->path_gt_m, metrics->path_est_m);
+  }
 }
 
 // Absolute trajectory error: position residuals after aligning the estimate to ground truth.
@@ -177,6 +199,7 @@ Metrics EvaluateTrajectory(const Trajectory& ground_truth, const Trajectory& est
   metrics.frames_est = estimate.size();
   metrics.frames_matched = pairs.size();
   ComputeDistances(poses, options.min_return_fraction, &metrics);
+  ComputePathLengths(poses, options.path_step_m, &metrics);
   ComputeAbsoluteError(poses, options.alignment, &metrics);
   metrics.rpe_1m_pct = RelativeTranslationErrorPct(poses, options.rpe_segment_m);
   return metrics;

@@ -57,6 +57,40 @@ const Eigen::Quaterniond kRotation(Eigen::AngleAxisd(0.4,
                                                      Eigen::Vector3d(1.0, 2.0, -0.5).normalized()));
 const Eigen::Vector3d kTranslation(0.3, -1.2, 5.0);
 
+// A network's L: 2 m along x, a 90 deg turn, 2 m along y, 1 cm a frame. The estimate is 1 %
+// long and turns 10 deg too far: its chord from start to end is off by the turn (closed form),
+// its path by the 1 % alone. Jitter across the path (0.5 mm, aperiodic) lengthens the path by
+// 0.2 % frame by frame, by under 0.08 % over the default 2 cm steps.
+TEST(TrajectoryMetrics, ThePathLengthDoesNotDependOnTheTurnsAngle) {
+  const double turn = 10.0 * M_PI / 180.0;
+  const auto l_shape = [](double scale, double extra_turn, double jitter_m) {
+    return MakeTrajectory(401, [=](int i) {
+      const double side = jitter_m * std::sin(2.1 * i);
+      if (i <= 200) return Eigen::Vector3d(scale * 0.01 * i, side, 0.0);
+      const double along = scale * 0.01 * (i - 200);
+      return Eigen::Vector3d(scale * 2.0 - along * std::sin(extra_turn) + side,
+                             along * std::cos(extra_turn), 0.0);
+    });
+  };
+  const Trajectory gt = l_shape(1.0, 0.0, 0.0);
+  const Metrics metrics = EvaluateTrajectory(gt, l_shape(1.01, turn, 0.0), {});
+  // The 2 cm steps cut the sharp corner by up to 6 mm (a pipe's turn has a radius).
+  EXPECT_NEAR(metrics.path_gt_m, 4.0, 0.006);
+  ASSERT_TRUE(metrics.path_error_pct);
+  EXPECT_NEAR(*metrics.path_error_pct, 1.0, 0.05);
+  // The chord: sides of 2.02 m meeting at 80 deg against 2 m at 90 deg.
+  const double chord_est = 2.02 * std::sqrt(2.0 - 2.0 * std::cos(M_PI / 2 - turn));
+  ASSERT_TRUE(metrics.distance_error_pct);
+  EXPECT_NEAR(*metrics.distance_error_pct, 100.0 * (1.0 - chord_est / std::sqrt(8.0)), 1e-9);
+  EXPECT_GT(*metrics.distance_error_pct, 7.0);
+
+  const Trajectory jittered = l_shape(1.0, 0.0, 5e-4);
+  EvaluationOptions every_frame;
+  every_frame.path_step_m = 0.0;
+  EXPECT_GT(*EvaluateTrajectory(gt, jittered, every_frame).path_error_pct, 0.15);
+  EXPECT_LT(*EvaluateTrajectory(gt, jittered, {}).path_error_pct, 0.08);
+}
+
 TEST(TrajectoryMetrics, OneWayScaledEstimateHasOnePercentDistanceError) {
   const Trajectory gt = Straight(51, 0.1);  // 5 m.
   const Trajectory est =

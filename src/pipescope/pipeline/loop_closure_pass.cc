@@ -460,14 +460,26 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
   return record;
 }
 
+namespace {
+
+double RevisitGap(const LoopClosureRecord& record, const JunctionRevisit& revisit) {
+  return record.applied ? revisit.gap_after_m : revisit.gap_before_m;
+}
+
+}  // namespace
+
+bool RevisitHolds(const LoopClosureRecord& record, const JunctionRevisit& revisit,
+                  double max_gap_share) {
+  return RevisitGap(record, revisit) <= max_gap_share * revisit.path_between_m;
+}
+
 std::vector<std::string> RevisitReasons(const LoopClosureRecord& record, double max_gap_share) {
   std::vector<std::string> reasons;
   for (const JunctionRevisit& revisit : record.revisits) {
-    const double gap = record.applied ? revisit.gap_after_m : revisit.gap_before_m;
-    if (gap <= max_gap_share * revisit.path_between_m) continue;
+    if (RevisitHolds(record, revisit, max_gap_share)) continue;
     reasons.push_back("the run passed junction " + revisit.name + " " +
                       std::to_string(revisit.t_sections.size()) + " times and placed it up to " +
-                      std::to_string(gap) + " m apart over " +
+                      std::to_string(RevisitGap(record, revisit)) + " m apart over " +
                       std::to_string(revisit.path_between_m) + " m of path" +
                       (record.applied ? " after loop closure" : " (no loop closure)"));
   }

@@ -114,6 +114,11 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
                              std::vector<TIntersectionRecord>* t_intersections,
                              std::vector<SparsePoint>* points);
 
+// Whether the run placed a revisited junction's passages within `max_gap_share` of the path
+// between them (after the closure, if one was applied).
+bool RevisitHolds(const LoopClosureRecord& record, const JunctionRevisit& revisit,
+                  double max_gap_share = 0.01);
+
 // What a run's revisits say of it: each junction whose passages still lie more than
 // `max_gap_share` of the path between them apart (after the closure, if one was applied) is a
 // reason the run is unreliable: the map disagrees with itself there.

@@ -478,6 +478,7 @@ json QualityJson(const RunFiles& run) {
   json out = {
       {"verdict", quality.value("verdict", json(nullptr))},
       {"reasons", quality.value("reasons", json::array())},
+      {"along_pipe_verdict", quality.value("along_pipe_verdict", json(nullptr))},
       {"frames_measured", quality.value("frames_measured", json(nullptr))},
       {"frames_bridged", quality.value("frames_bridged", json(nullptr))},
       {"frames_predicted", quality.value("frames_predicted", json(nullptr))},

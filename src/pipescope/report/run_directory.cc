@@ -239,6 +239,8 @@ std::optional<Metrics> RunDirectory::WriteMetrics(const Trajectory& ground_truth
     metrics_json["frames_predicted"] = quality_->predicted;
     metrics_json["frames_not_localised"] = quality_->not_localised;
     metrics_json["quality_verdict"] = quality_->reliable ? "reliable" : "unreliable";
+    metrics_json["quality_along_pipe_verdict"] =
+        quality_->AlongPipeReliable() ? "reliable" : "unreliable";
   }
   WriteTextFileAtomically(staging_.path() / "metrics.json", metrics_json.dump(2) + "\n");
   std::cout << MetricsToTable(metrics);
@@ -247,11 +249,17 @@ std::optional<Metrics> RunDirectory::WriteMetrics(const Trajectory& ground_truth
 
 RunQuality RunDirectory::SetQuality(const std::vector<FrameState>& states,
                                     const std::vector<std::string>& model_reasons,
-                                    const RunQualityLimits& limits) {
+                                    const RunQualityLimits& limits,
+                                    const std::vector<std::string>& position_reasons) {
   quality_ = AssessRunQuality(states, limits);
   for (const std::string& reason : model_reasons) {
     quality_->reliable = false;
     quality_->reasons.push_back(reason);
+  }
+  for (const std::string& reason : position_reasons) {
+    quality_->reliable = false;
+    quality_->reasons.push_back(reason);
+    quality_->position_reasons.push_back(reason);
   }
   report_.Extra("quality") = RunQualityJson(*quality_, limits);
   if (quality_->reliable) {

@@ -65,9 +65,12 @@ class RunDirectory {
   // counts in metrics.json (call it before WriteMetrics). Returns the assessment.
   // `model_reasons`: what the method found wrong with its own result beyond the frame states (a
   // fitted model that disagrees with the dataset); each makes the run unreliable.
+  // `position_reasons`: what makes only the positions across the run's turns unconfirmed; each
+  // makes the run unreliable, while its distances along the pipe stand.
   RunQuality SetQuality(const std::vector<FrameState>& states,
                         const std::vector<std::string>& model_reasons = {},
-                        const RunQualityLimits& limits = {});
+                        const RunQualityLimits& limits = {},
+                        const std::vector<std::string>& position_reasons = {});
 
   // How stations.csv measures distance: by default along the straight axis for `odometry`, along
   // the travelled path for `map`; a method through bends (ekf) asks for the path.

@@ -61,6 +61,34 @@ TEST(RunDirectory, CommitPutsTheWholeRunInPlace) {
   EXPECT_NEAR(ReadJson(out / "metrics.json")["distance_error_pct"].get<double>(), 1.0, 1e-9);
 }
 
+// A position reason (a map run's unconfirmed turn) makes the run unreliable and says so, while
+// the distances along the pipe keep their own verdict; any other reason takes that too.
+TEST(RunDirectory, PositionReasonsLeaveTheDistancesAlongThePipeStanding) {
+  const std::filesystem::path out = MakeTestDirectory("run_directory_positions") / "run";
+  const std::vector<FrameState> measured(20, FrameState::kMeasured);
+  {
+    RunDirectory run(out, "map", "fisheye");
+    const RunQuality quality = run.SetQuality(measured, {}, {}, {"the turn at J1"});
+    EXPECT_FALSE(quality.reliable);
+    EXPECT_TRUE(quality.AlongPipeReliable());
+    const std::string summary = RunQualitySummary(quality);
+    EXPECT_NE(summary.find("UNRELIABLE positions: the turn at J1"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("distances along the pipe are reliable"), std::string::npos) << summary;
+    run.Commit();
+    const nlohmann::json quality_json = ReadJson(out / "run.json")["quality"];
+    EXPECT_EQ(quality_json["verdict"], "unreliable");
+    EXPECT_EQ(quality_json["along_pipe_verdict"], "reliable");
+    EXPECT_EQ(quality_json["reasons"], nlohmann::json::array({"the turn at J1"}));
+    EXPECT_EQ(quality_json["position_reasons"], nlohmann::json::array({"the turn at J1"}));
+  }
+  RunDirectory run(out, "map", "fisheye");
+  const RunQuality quality = run.SetQuality(measured, {"windows rejected"}, {}, {"the turn at J1"});
+  EXPECT_FALSE(quality.AlongPipeReliable());
+  EXPECT_EQ(quality.reasons.size(), 2u);
+  EXPECT_NE(RunQualitySummary(quality).find("do not trust this run's distances"),
+            std::string::npos);
+}
+
 TEST(RunDirectory, ARunThatFailsLeavesTheOldOneWhole) {
   const std::filesystem::path out = MakeTestDirectory("run_directory_failed") / "run";
   {

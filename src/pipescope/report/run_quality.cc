@@ -87,6 +87,8 @@ nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits&
   const double frames = std::max(1, quality.frames);
   return {{"verdict", quality.reliable ? "reliable" : "unreliable"},
           {"reasons", quality.reasons},
+          {"along_pipe_verdict", quality.AlongPipeReliable() ? "reliable" : "unreliable"},
+          {"position_reasons", quality.position_reasons},
           {"frames", quality.frames},
           {"frames_measured", quality.measured},
           {"frames_predicted", quality.predicted},
@@ -106,15 +108,19 @@ nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits&
 }
 
 std::string RunQualitySummary(const RunQuality& quality) {
-  if (quality.reliable) {
-    return "quality: reliable (" + std::to_string(quality.measured) + " of " +
-           std::to_string(quality.frames) + " frames measured, " + std::to_string(quality.bridged) +
-           " bridged, " + std::to_string(quality.predicted) + " predicted, " +
-           std::to_string(quality.not_localised) + " without a pose)";
-  }
+  const std::string counts = "(" + std::to_string(quality.measured) + " of " +
+                             std::to_string(quality.frames) + " frames measured, " +
+                             std::to_string(quality.bridged) + " bridged, " +
+                             std::to_string(quality.predicted) + " predicted, " +
+                             std::to_string(quality.not_localised) + " without a pose)";
+  if (quality.reliable) return "quality: reliable " + counts;
   std::string reasons;
   for (const std::string& reason : quality.reasons) {
     reasons += (reasons.empty() ? "" : "; ") + reason;
+  }
+  if (quality.AlongPipeReliable()) {
+    return "quality: UNRELIABLE positions: " + reasons +
+           "; distances along the pipe are reliable " + counts;
   }
   return "quality: UNRELIABLE: " + reasons + "; do not trust this run's distances";
 }

@@ -35,6 +35,12 @@ struct RunQuality {
   std::vector<int> not_localised_frames;
   bool reliable = true;
   std::vector<std::string> reasons;  // why it is unreliable; empty when reliable
+  // Of `reasons`, those that leave the distances along the pipe standing: what makes only the
+  // positions across the pipe network's turns unconfirmed (a map run's turns).
+  std::vector<std::string> position_reasons;
+  // Whether the distances along the pipe (stations, sections) are reliable: no reason but
+  // position reasons.
+  bool AlongPipeReliable() const { return reasons.size() == position_reasons.size(); }
 };
 
 // Counts the states (in frame order) and gives the verdict, with a reason per limit exceeded.
@@ -55,7 +61,9 @@ RunQualityLimits KeyframeQualityLimits(const std::vector<int>& keyframe_frames,
 // ("reliable" or "unreliable") and `reasons`.
 nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits& limits = {});
 
-// The line the user sees: "quality: reliable (...)" or "quality: UNRELIABLE: reasons".
+// The line the user sees: "quality: reliable (...)", "quality: UNRELIABLE: reasons" or, when only
+// positions are in doubt, "quality: UNRELIABLE positions: reasons; distances along the pipe
+// reliable (...)".
 std::string RunQualitySummary(const RunQuality& quality);
 
 }  // namespace pipescope

@@ -219,7 +219,11 @@
       : null;
     const verdictBox = el("div", { class: "verdict verdict-" + (quality.verdict || "unknown") },
       el("div", { class: "verdict-head" }, el("span", { class: "verdict-label" }, "Quality"), verdictBadge()),
-      reasons || note(quality.verdict === "reliable" ? "No quality check failed." : "No reasons given."));
+      reasons || note(quality.verdict === "reliable" ? "No quality check failed." : "No reasons given."),
+      // A map run whose positions past a turn are unconfirmed keeps its distances along the pipe.
+      quality.along_pipe_verdict && quality.along_pipe_verdict !== quality.verdict
+        ? note("Distances along the pipe: " + quality.along_pipe_verdict + ".")
+        : null);
 
     const body = [el("div", { class: "summary-grid" }, left, verdictBox)];
 
