@@ -41,10 +41,11 @@ for s in r["sections"]:
           f"  est {s['distance_est_m']:.3f} m  gt {gt if gt is None else f'{gt:.3f}'} m  "
           f"error {err if err is None else f'{err:+.2f}'} %"
           + (f"  windows {s['windows_rejected']}/{s['windows']} rejected" if "windows" in s else ""))
-print(f"  whole run: distance_error_pct {m['distance_error_pct']}, ate_rmse_m {m['ate_rmse_m']}, "
-      f"rpe_1m_pct {m['rpe_1m_pct']}")
+print(f"  whole run: distance_error_pct {m['distance_error_pct']} (the chord), path_error_pct "
+      f"{m.get('path_error_pct')}, ate_rmse_m {m['ate_rmse_m']}, rpe_1m_pct {m['rpe_1m_pct']}")
 q = r["quality"]
-print(f"  verdict: {q['verdict']}" + "".join(f"\n    {reason}" for reason in q["reasons"]))
+print(f"  verdict: {q['verdict']}, along the pipe: {q.get('along_pipe_verdict')}"
+      + "".join(f"\n    {reason}" for reason in q["reasons"]))
 for t in r.get("t_intersections", []):
     state = "adjusted" if t["adjusted"] else f"kept ({t['rejection']})"
     extra = ""
