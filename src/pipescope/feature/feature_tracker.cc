@@ -5,6 +5,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pipescope/feature/far_wall_corners.h"
 #include "pipescope/util/median.h"
 
 namespace pipescope {
@@ -32,12 +33,22 @@ FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions
   const int side = options_.descriptor.region_size_px;
   cv::erode(bearings_.valid_mask(), detection_mask_,
             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  if (options_.far_wall_corners > 0) {
+    const BearingTable cone(camera, options_.far_wall_cone_deg * M_PI / 180.0);
+    cv::bitwise_and(cone.valid_mask(), detection_mask_, far_wall_mask_);
+  }
 }
 
 std::vector<cv::Point2f> FeatureTracker::Detect(const cv::Mat& grey) const {
   std::vector<cv::Point2f> points;
   for (const Keypoint& keypoint : DetectRegionHarris(grey, options_.harris, detection_mask_)) {
     points.push_back(keypoint.position);
+  }
+  if (options_.far_wall_corners > 0) {
+    const std::vector<cv::Point2f> far =
+        FarWallCorners(grey, far_wall_mask_, options_.harris, options_.far_wall_corners,
+                       options_.duplicate_radius_px, points);
+    points.insert(points.end(), far.begin(), far.end());
   }
   return points;
 }

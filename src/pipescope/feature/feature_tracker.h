@@ -39,6 +39,12 @@ struct FeatureTrackerOptions {
   // 95 degrees -1.34 % with 6 frames RANSAC could not match and a tracking reset, 80 degrees
   // -0.40 %, 70 degrees -0.06 %, no failures (docs/fisheye_mapping.md, "View angle").
   double max_view_angle_deg = 70.0;
+  // Besides each quarter's strongest corners, up to this many of the strongest within
+  // far_wall_cone_deg of the optical axis (feature/far_wall_corners.h). 0: none, the default
+  // until measured further: 150 within 35 degrees took the turns through six simulated Ts from
+  // 1.3-11.8 degrees off to 2.3-4.6 (docs/fisheye_mapping.md, "Turns confirmed or not").
+  int far_wall_corners = 0;
+  double far_wall_cone_deg = 35.0;
   // Key frame when the median flow to the last key frame reaches this, or when the next frame's
   // would pass max_median_flow_px at the recent pace (flow per frame, this span's and the last
   // three spans', their upper median). So a crawler at 1 cm a frame, 001's benchmark here with
@@ -128,6 +134,7 @@ class FeatureTracker {
   FeatureTrackerOptions options_;
   BearingTable bearings_;
   cv::Mat detection_mask_;
+  cv::Mat far_wall_mask_;  // detection_mask_ within far_wall_cone_deg of the optical axis
   std::unique_ptr<KeyframeState> last_;
   std::optional<SphereRelativePose> last_motion_;  // the last key-frame step, a RANSAC prior
   int span_start_inliers_ = 0;  // of the first frame tracked after the last key frame; 0: none yet

@@ -38,6 +38,12 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "max_view_angle_deg", [](O& o) -> double& { return o.tracking.max_view_angle_deg; }, 1.0,
           180.0, "deg", "features further from the optical axis are not tracked"),
       Number<O>(
+          "far_wall_corners", [](O& o) -> int& { return o.tracking.far_wall_corners; }, 0, 10000,
+          "", "corners added within far_wall_cone_deg of the optical axis (0: none)"),
+      Number<O>(
+          "far_wall_cone_deg", [](O& o) -> double& { return o.tracking.far_wall_cone_deg; }, 1.0,
+          90.0, "deg", "the cone of the far-wall corners"),
+      Number<O>(
           "max_straight_moment_ratio",
           [](O& o) -> double& { return o.classification.max_straight_moment_ratio; }, 1.0, 100.0,
           "", "straight / T classification: L_p / L of a straight view (001 §III-B)"),
@@ -189,8 +195,8 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "close loops where the plan (scene.yaml with route_start) says a section was driven "
           "twice (off: its edges can pair places a wall pattern apart)"),
       Number<O>(
-          "loop_pairs", [](O& o) -> int& { return o.loop_closure.max_pairs; }, 1, 1000,
-          "", "loop closure: at most this many key frame pairs per two passes of a section"),
+          "loop_pairs", [](O& o) -> int& { return o.loop_closure.max_pairs; }, 1, 1000, "",
+          "loop closure: at most this many key frame pairs per two passes of a section"),
       Number<O>(
           "loop_search_step_m", [](O& o) -> double& { return o.loop_closure.search_step_m; }, 0.005,
           100.0, "m",
