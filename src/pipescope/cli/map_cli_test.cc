@@ -359,7 +359,7 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   // out at 95.6 degrees, held half a metre before it at 93.3.
   EXPECT_NEAR(t["phi_deg"].get<double>(), 90.0, 4.5);
   // Nothing else in the run checks that angle (no loop), and the run says so: its positions past
-  // the turn are unconfirmed, its distances along the pipe are not.
+  // the turn are unconfirmed, while its distances along the pipe stand.
   const nlohmann::json& quality = report["quality"];
   EXPECT_EQ(quality["verdict"], "unreliable");
   ASSERT_EQ(quality["position_reasons"].size(), 1u) << quality.dump();
