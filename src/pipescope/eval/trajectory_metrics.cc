@@ -24,8 +24,9 @@ void CheckOptions(const EvaluationOptions& options) {
   if (!(options.rpe_segment_m > 0)) {
     throw std::invalid_argument("EvaluationOptions: rpe_segment_m must be positive");
   }
-  if (!(options.path_step_m >= 0))
+  if (!(options.path_step_m >= 0)) {
     throw std::invalid_argument("EvaluationOptions: path_step_m < 0");
+  }
   if (!(options.min_return_fraction > 0 && options.min_return_fraction <= 1)) {
     throw std::invalid_argument("EvaluationOptions: min_return_fraction outside (0, 1]");
   }
