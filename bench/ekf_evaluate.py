@@ -76,7 +76,8 @@ def main():
           f"ATE {1000 * metrics['ate_rmse_m']:6.1f} mm  rot {metrics['rot_rmse_deg']:5.2f} deg  "
           f"bend {est_bend:7.2f} ({true_bend:g}) deg  radius worst {worst_radius:+5.1f} %  "
           f"sections {len(report['sections']):2d}  {fps:5.1f} frames/s  "
-          f"verdict {report['quality']['verdict']}")
+          f"verdict {report['quality']['verdict']}, along the centreline "
+          f"{report['quality'].get('along_pipe_verdict', '-')}")
 
 
 if __name__ == "__main__":

@@ -91,8 +91,9 @@ TEST_F(EkfCli, WritesSectionsCentrelineAndMosaic) {
 }
 
 // Through a 60-degree bend (legs of 0.35 m, 250 frames at 320x240): the chain turns with it, and
-// the run says that the filter cannot check the angle it turned.
-TEST_F(EkfCli, ARunThroughABendWarnsThatItsAngleIsUnchecked) {
+// the run calls its positions unconfirmed, since the filter cannot check the angle it turned,
+// while its distances along the centreline keep their own verdict.
+TEST_F(EkfCli, ARunThroughABendLeavesItsPositionsUnconfirmed) {
   const CommandResult simulate =
       RunPipescope("simulate --preset tube-bend --out " + Path("bend") +
                    " --frames 250 --set width=320 --set height=240 --set white_card_count=2"
@@ -113,7 +114,13 @@ TEST_F(EkfCli, ARunThroughABendWarnsThatItsAngleIsUnchecked) {
   // Measured: 66.0 degrees (the truth 60).
   const double turn_deg = std::acos(first.normalized().dot(last.normalized())) * 180.0 / M_PI;
   EXPECT_NEAR(turn_deg, 60.0, 10.0);
-  EXPECT_NE(report.dump().find("the sections turn"), std::string::npos) << report["warnings"];
+  const nlohmann::json& quality = report["quality"];
+  ASSERT_EQ(quality["position_reasons"].size(), 1u) << quality;
+  EXPECT_NE(quality["position_reasons"][0].get<std::string>().find("the sections turn"),
+            std::string::npos);
+  EXPECT_EQ(quality["verdict"], "unreliable");
+  // Nothing else went wrong on this clean rendering: the distance along the centreline stands.
+  EXPECT_EQ(quality["along_pipe_verdict"], "reliable") << quality["reasons"];
 }
 
 TEST_F(EkfCli, BadConfigExitsTwoAndNamesTheKey) {

@@ -30,6 +30,7 @@
 #include "pipescope/pipeline/sparse_vo_verdict.h"
 #include "pipescope/pipeline/wall_distance_statement.h"
 #include "pipescope/report/run_directory.h"
+#include "pipescope/report/run_quality.h"
 #include "pipescope/util/atomic_file.h"
 #include "pipescope/util/error.h"
 
@@ -259,9 +260,12 @@ constexpr double kEkfMaxUnobservedExcursion = 0.02;
 // on weak, noisy wall texture 10.2 (a run 6.2 % off), on frames of plain noise 18.5 (65 % off);
 // the runs that held (wall cameras, eleven tube-bend runs) stayed within 0.30 (docs/conditions.md).
 constexpr double kEkfMaxMedianNis = 4.0;
-// Turning of the chain (the sum of the angles between consecutive sections) above which the run
-// warns that it went through bends, whose angle a chain of straight sections only approximates.
-constexpr double kEkfBendWarningDeg = 10.0;
+// Turning of the chain (the sum of the angles between consecutive sections) above which the run's
+// positions are unconfirmed: a chain of straight sections only approximates a bend, and nothing
+// in the filter checks the angle it turned. On simulated bends that angle came out 2-10 % short
+// (docs/ekf.md); 10 % of 10 degrees moves the end of a run by at most 1.7 % of the path after the
+// bend, so below this no turn error can reach the 2 % a reliable run promises.
+constexpr double kEkfMaxUnconfirmedTurnDeg = 10.0;
 
 double ChainTurnDeg(const std::vector<EkfSectionRecord>& sections) {
   double turn = 0.0;
@@ -402,17 +406,19 @@ int RunEkfOdometry(const OdometryFlags& flags) {
         median_nis / 2.0, options.filter.pixel_sigma, kEkfMaxMedianNis / 2.0,
         innovation["rms_px_median"].get<double>()));
   }
-  // Not observable from inside the filter, so said.
+  // Not observable from inside the filter: the positions beyond a bend are unconfirmed, while the
+  // distance along the centreline, which the angle does not move, keeps its own verdict.
+  std::vector<std::string> position_reasons;
   const double turn_deg = ChainTurnDeg(result.sections);
-  if (turn_deg > kEkfBendWarningDeg) {
-    report.Warn(fmt::format(
+  if (turn_deg > kEkfMaxUnconfirmedTurnDeg) {
+    position_reasons.push_back(fmt::format(
         "the sections turn {:.0f} deg in all: a chain of straight sections only approximates a "
         "bend, and the filter cannot check the angle it turned (on simulated bends it came out "
-        "up to 10 % off, docs/ekf.md); distances along the centreline hold better than the "
-        "bends' angles and straight-line distances across them",
+        "2-10 % short, docs/ekf.md), so the positions beyond the bend and straight-line "
+        "distances across it are unconfirmed; the distances along the centreline are not affected",
         turn_deg));
   }
-  run.SetQuality(states, model_reasons);
+  run.SetQuality(states, model_reasons, RunQualityLimits{}, position_reasons);
   run.WriteTrajectory(result.trajectory);
   // Not "unrolled": that names a straight pipe's (h, r phi) map, which the report lays on one
   // cylinder.
@@ -451,10 +457,11 @@ int RunOdometry(const OdometryFlags& flags) {
       if (status != kExitSuccess) return status;
       const nlohmann::json report =
           nlohmann::json::parse(ReadTextFile(std::filesystem::path(flags.out) / "run.json"));
-      if (report["quality"]["verdict"] == "reliable") return status;
-      for (const auto& reason : report["quality"]["reasons"]) {
-        why += (why.empty() ? "" : "; ") + reason.get<std::string>();
-      }
+      // The fallbacks measure distance along a straight pipe only: positions across a bend the
+      // first method could not confirm are no reason to prefer them.
+      const std::vector<std::string> reasons = AlongPipeReasons(report["quality"]);
+      if (reasons.empty()) return status;
+      for (const std::string& reason : reasons) why += (why.empty() ? "" : "; ") + reason;
     } catch (const RunFailedError& error) {
       why = error.what();
     }

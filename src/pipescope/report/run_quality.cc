@@ -125,4 +125,17 @@ std::string RunQualitySummary(const RunQuality& quality) {
   return "quality: UNRELIABLE: " + reasons + "; do not trust this run's distances";
 }
 
+std::vector<std::string> AlongPipeReasons(const nlohmann::json& quality_json) {
+  const nlohmann::json no_positions = nlohmann::json::array();
+  const nlohmann::json& positions =
+      quality_json.contains("position_reasons") ? quality_json["position_reasons"] : no_positions;
+  std::vector<std::string> reasons;
+  for (const nlohmann::json& reason : quality_json["reasons"]) {
+    if (std::find(positions.begin(), positions.end(), reason) == positions.end()) {
+      reasons.push_back(reason.get<std::string>());
+    }
+  }
+  return reasons;
+}
+
 }  // namespace pipescope

@@ -36,7 +36,8 @@ struct RunQuality {
   bool reliable = true;
   std::vector<std::string> reasons;  // why it is unreliable; empty when reliable
   // Of `reasons`, those that leave the distances along the pipe standing: what makes only the
-  // positions across the pipe network's turns unconfirmed (a map run's turns).
+  // positions across the pipe's turns unconfirmed (a map run's T-intersections, an ekf run's
+  // bends).
   std::vector<std::string> position_reasons;
   // Whether the distances along the pipe (stations, sections) are reliable: no reason but
   // position reasons.
@@ -65,5 +66,10 @@ nlohmann::json RunQualityJson(const RunQuality& quality, const RunQualityLimits&
 // positions are in doubt, "quality: UNRELIABLE positions: reasons; distances along the pipe
 // reliable (...)".
 std::string RunQualitySummary(const RunQuality& quality);
+
+// Of a `quality` block as RunQualityJson writes it, the reasons against the distances along the
+// pipe (`reasons` less `position_reasons`), in order; empty when they hold. A block written
+// before `position_reasons` existed counts every reason.
+std::vector<std::string> AlongPipeReasons(const nlohmann::json& quality_json);
 
 }  // namespace pipescope

@@ -79,5 +79,20 @@ TEST(RunQuality, SharesAboveTheLimitsAreUnreliable) {
   EXPECT_FALSE(AssessRunQuality({M, P, P}).reliable);  // fewer than 2 measured
 }
 
+// What a reader of run.json (odometry's fallback) counts against the distances along the pipe.
+TEST(RunQuality, AlongPipeReasonsLeaveOutThePositionReasons) {
+  RunQuality quality = AssessRunQuality(Measured(10));
+  quality.reliable = false;
+  quality.reasons = {"a turn", "thin tracks", "another turn"};
+  quality.position_reasons = {"a turn", "another turn"};
+  EXPECT_EQ(AlongPipeReasons(RunQualityJson(quality)), std::vector<std::string>{"thin tracks"});
+  quality.reasons = quality.position_reasons;
+  EXPECT_TRUE(AlongPipeReasons(RunQualityJson(quality)).empty());
+  // A block without position_reasons (written before they existed): every reason counts.
+  nlohmann::json old_block = RunQualityJson(quality);
+  old_block.erase("position_reasons");
+  EXPECT_EQ(AlongPipeReasons(old_block).size(), 2u);
+}
+
 }  // namespace
 }  // namespace pipescope
