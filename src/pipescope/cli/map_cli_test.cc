@@ -322,6 +322,34 @@ TEST_F(MapCli, BadInputExitsTwoAndNamesTheCulprit) {
   }
 }
 
+// Frames of plain noise after the first: no frame matches its key frame, no wall point is
+// triangulated, and the run fails (exit 1), writes nothing, and says which frame failed and why.
+TEST_F(MapCli, AFailedRunSaysWhichFramesFailedAndWhy) {
+  const std::string noise = Path("plain_noise");
+  std::filesystem::copy(Path("ds"), noise, std::filesystem::copy_options::recursive);
+  cv::RNG rng(3);
+  for (int index = 1; index < 24; ++index) {
+    cv::Mat plain(480, 640, CV_8U);
+    rng.fill(plain, cv::RNG::NORMAL, 120.0, 3.0);
+    char name[32];
+    std::snprintf(name, sizeof(name), "/images/%06d.png", index);
+    ASSERT_TRUE(cv::imwrite(noise + name, plain));
+  }
+  const CommandResult result = RunPipescope("map " + noise + " --out " + Path("run-noise") +
+                                            " --config " + Path("config.yaml") + " -q");
+  EXPECT_EQ(result.exit_status, 1) << result.output;
+  EXPECT_NE(result.output.find("no point of the wall was triangulated"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("of 24 frames could not be matched to their key frame (the "
+                               "first, " +
+                               noise + "/images/000001.png: only"),
+            std::string::npos)
+      << result.output;
+  // Said once, in the error: no warning points to a run.json that is not written.
+  EXPECT_EQ(result.output.find("see failed_frames"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(Path("run-noise")));
+}
+
 // The position at `timestamp` (to 1 ms) of a trajectory.
 Eigen::Vector3d PositionAt(const Trajectory& trajectory, double timestamp) {
   for (const StampedPose& pose : trajectory) {

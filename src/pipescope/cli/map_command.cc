@@ -380,7 +380,8 @@ int RunMap(const RunFlags& flags) {
   }
   report.Extra("failed_frames") = failed;
   report.Extra("unreadable_frames") = result.unreadable_frames;
-  if (!result.failed_frames.empty()) {
+  // Without a point the run fails below, and its error says this.
+  if (!result.failed_frames.empty() && !result.points.empty()) {
     report.Warn(std::to_string(result.failed_frames.size()) +
                 " frames could not be matched to their key frame and were skipped (see "
                 "failed_frames)");
@@ -390,9 +391,20 @@ int RunMap(const RunFlags& flags) {
       "world frame is the first key frame's camera frame";
 
   if (result.points.empty()) {
+    // No run.json is written, so the error carries what the user needs to see why.
+    std::string unmatched;
+    if (!result.failed_frames.empty()) {
+      const FisheyeFrameFailure& first = result.failed_frames.front();
+      unmatched = "; " + std::to_string(result.failed_frames.size()) + " of " +
+                  std::to_string(result.frames) +
+                  " frames could not be matched to their key frame (the first, " + first.name +
+                  ": " + first.reason +
+                  "): the frames show too little of the wall's texture to match (dark, blurred, "
+                  "plain or noisy)";
+    }
     throw RunFailedError("no point of the wall was triangulated in " +
                          std::to_string(result.keyframes.size()) +
-                         " key frames, so the scale and the path are not measured");
+                         " key frames, so the scale and the path are not measured" + unmatched);
   }
   // Key frames carry the measurements and the frames between them are interpolated: a key frame
   // whose relative pose was rejected continued the recent motion, and so did the frames since the
