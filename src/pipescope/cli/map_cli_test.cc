@@ -469,6 +469,34 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   RecordProperty("t_wall_p90_mm", std::to_string(1000 * p90));
   EXPECT_LT(median, 0.01);
   EXPECT_LT(p90, 0.025);
+  EXPECT_EQ(t["phi_source"], "measured");
+
+  // The same passage with the fitting's angle given (a 90-degree tee; the scene's pipes meet at
+  // 89.6): the T holds phi there, its end cylinders agree with it (within 20 degrees), so the
+  // turn is confirmed and the positions stand; the junction is placed as well as before.
+  WriteTextFileAtomically(dir / "given.yaml", "window_threads: 1\nt_fitting_angle_deg: 90\n");
+  const CommandResult given =
+      RunPipescope("map " + ds + " --out " + (dir / "given").string() + " --config " +
+                   (dir / "given.yaml").string() + " -q --no-report");
+  ASSERT_EQ(given.exit_status, 0) << given.output;
+  const nlohmann::json given_report =
+      nlohmann::json::parse(ReadTextFile((dir / "given" / "run.json").string()));
+  ASSERT_EQ(given_report["t_intersections"].size(), 1u);
+  const nlohmann::json& given_t = given_report["t_intersections"][0];
+  ASSERT_TRUE(given_t["adjusted"].get<bool>()) << given_t.dump();
+  EXPECT_EQ(given_t["phi_source"], "given");
+  EXPECT_NEAR(given_t["phi_deg"].get<double>(), 90.0, 1e-9);
+  EXPECT_TRUE(given_report["quality"]["position_reasons"].empty())
+      << given_report["quality"].dump();
+  const Trajectory given_keyframes = ReadTumTrajectory(dir / "given" / "keyframes.tum");
+  const Eigen::Vector3d given_centre =
+      ReadEstimatedJunctions(dir / "given" / "junctions.yaml").front().center;
+  for (const char* side : {"red_keyframe", "blue_keyframe"}) {
+    const double timestamp = given_keyframes.at(given_t[side].get<int>()).timestamp;
+    EXPECT_NEAR((given_centre - PositionAt(given_keyframes, timestamp)).norm(),
+                (true_t1 - PositionAt(truth, timestamp)).norm(), 0.025)
+        << side;
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -149,6 +149,8 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
       }
     }
     if (!ceres_problem.HasParameterBlock(problem->model)) break;
+    ceres::SubsetManifold held_phi(kTIntersectionParameters, {kPhi});
+    if (options.hold_phi) ceres_problem.SetManifold(problem->model, &held_phi);
     const LeastSquaresOutcome outcome =
         SolveLeastSquares(&ceres_problem, ceres::DENSE_SCHUR, options.max_iterations_per_stage, 0,
                           options.num_threads);

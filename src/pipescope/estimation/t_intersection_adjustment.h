@@ -26,6 +26,9 @@ struct TIntersectionOptions {
   double min_mad_px = 0.1;
   int max_iterations_per_stage = 50;
   int num_threads = 1;
+  // Hold phi at its initial value (a fitting whose angle the user gives): the images leave the
+  // angle of a T poorly measured (docs/fisheye_mapping.md, "Turns confirmed or not").
+  bool hold_phi = false;
 };
 
 struct TIntersectionProblem {

@@ -186,6 +186,10 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "t_min_turn_deg", [](O& o) -> double& { return o.t_intersections.min_turn_deg; }, 5.0,
           89.0, "deg", "T model: axes closer to parallel are a pass straight through"),
       Number<O>(
+          "t_fitting_angle_deg",
+          [](O& o) -> double& { return o.t_intersections.fitting_angle_deg; }, 0.0, 179.0, "deg",
+          "T model: the fittings' angle, held instead of measured (0: measured)"),
+      Number<O>(
           "t_max_axis_gap_radii",
           [](O& o) -> double& { return o.t_intersections.max_axis_gap_radii; }, 0.0, 100.0, "radii",
           "T model: the end cylinders' axes must pass this close to meet"),

@@ -189,6 +189,12 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
   started.score = observations * cap_px * cap_px;
   if (!model) return started;
   std::copy(model->data(), model->data() + kTIntersectionParameters, problem.model);
+  if (options_.fitting_angle_deg > 0.0) {
+    const double given = options_.fitting_angle_deg * kDeg;
+    const double chained = problem.model[kPhi];
+    problem.model[kPhi] =
+        std::abs(given - chained) <= std::abs(M_PI - given - chained) ? given : M_PI - given;
+  }
   // ... then each pose takes the share of the move from there to where the model puts P_b that
   // its path fraction says.
   const Eigen::Isometry3d to_model = TIntersectionInWorld(start.front(), problem.red_cylinder,
@@ -223,7 +229,9 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
     }
   }
   if (problem.points.size() < 20) return started;
-  started.summary = OptimiseTIntersection(camera_, options_.adjustment, &problem);
+  TIntersectionOptions adjustment = options_.adjustment;
+  adjustment.hold_phi = options_.fitting_angle_deg > 0.0;
+  started.summary = OptimiseTIntersection(camera_, adjustment, &problem);
   if (!started.summary.usable) return started;
   // The score: every observation of the T's tracks, its error capped, so that the starts
   // compare on the same observations whatever each kept as inliers or triangulated.

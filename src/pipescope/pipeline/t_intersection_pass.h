@@ -32,6 +32,11 @@ struct TIntersectionPassOptions {
   double min_end_length_m = 0.3;
   // Axes closer than this to parallel are a pass straight through, not a turn: no model.
   double min_turn_deg = 20.0;
+  // The angle of the network's fittings, when the user knows it (a 90-degree tee, a 45-degree
+  // wye): every T's phi is held at it (or at 180 less it, whichever is nearer the chained turn)
+  // instead of measured, since the images measure a T's angle poorly (docs/fisheye_mapping.md,
+  // "Turns confirmed or not"). 0: measured, the default.
+  double fitting_angle_deg = 0.0;
   // The two end cylinders' axes must pass within this many radii of each other to meet in a T.
   double max_axis_gap_radii = 1.0;
   // An adjustment is applied only when it converged: image RMS and wall RMS (times the radius)

@@ -27,7 +27,7 @@ bool InsideHeldLoop(int section, const LoopClosureRecord& loop_closure, double m
 std::vector<std::string> UnconfirmedTurnReasons(
     const std::vector<TIntersectionRecord>& t_intersections,
     const std::vector<std::string>& junction_names, const LoopClosureRecord& loop_closure,
-    double max_gap_share) {
+    double max_gap_share, double fitting_angle_deg) {
   std::vector<std::string> reasons;
   for (std::size_t i = 0; i < t_intersections.size(); ++i) {
     const TIntersectionRecord& t = t_intersections[i];
@@ -39,6 +39,18 @@ std::vector<std::string> UnconfirmedTurnReasons(
                                  : "the T-intersection";
     const std::string where =
         fmt::format("{} (key frames {}-{})", name, t.red_keyframe, t.blue_keyframe);
+    if (fitting_angle_deg > 0.0 && t.rejection.empty()) {
+      const double own = t.initial_model[kPhi] * 180.0 / M_PI;
+      const double disagreement =
+          std::min(std::abs(own - fitting_angle_deg), std::abs(own - (180.0 - fitting_angle_deg)));
+      if (disagreement <= kMaxFittingAngleDisagreementDeg) continue;
+      reasons.push_back(fmt::format(
+          "the turn at {} was held at the given fitting angle ({:.1f} deg, t_fitting_angle_deg), "
+          "but its end cylinders meet at {:.1f} deg, more than {:.0f} deg from it: the fitting "
+          "may not be what was given, and positions past it are not confirmed",
+          where, fitting_angle_deg, own, kMaxFittingAngleDisagreementDeg));
+      continue;
+    }
     const std::string measured =
         t.rejection.empty()
             ? fmt::format(

@@ -20,9 +20,20 @@ namespace pipescope {
 // `junction_names` runs beside `t_intersections` (the name in junctions.yaml, empty for a T that
 // placed no centre). Returns one reason per unconfirmed turn, for run.json's quality block; a T
 // passed straight through (rejection "no turn") is no turn.
+//
+// `fitting_angle_deg` > 0: the user gave the fittings' angle (t_fitting_angle_deg) and every
+// adjusted T held its phi there. Such a turn rests on the given angle, not on the images, and is
+// confirmed unless the end cylinders' own angle (the model's start, record.initial_model) lies
+// more than kMaxFittingAngleDisagreementDeg from it (or from 180 less it): then the fitting may
+// not be what the user said, and the turn is a reason. A T whose adjustment was not applied
+// kept its chained turn and is judged as without a given angle.
 std::vector<std::string> UnconfirmedTurnReasons(
     const std::vector<TIntersectionRecord>& t_intersections,
     const std::vector<std::string>& junction_names, const LoopClosureRecord& loop_closure,
-    double max_gap_share = 0.01);
+    double max_gap_share = 0.01, double fitting_angle_deg = 0.0);
+
+// The end cylinders' angle erred by up to 13.3 degrees on the simulated networks' Ts (88.3-103.3
+// for 89.6-90); a 45-degree wye taken for a tee is 45 off.
+constexpr double kMaxFittingAngleDisagreementDeg = 20.0;
 
 }  // namespace pipescope
