@@ -9,7 +9,7 @@
 # `head` is the straight dataset's first 340 frames (3.39 m, linked, not simulated again): the
 # quick check used while changing the odometry. CONFIG=FILE passes --config FILE to every run.
 # `route` maps the preset's whole route at its own speed and length (26 000 frames, 32 m, route A;
-# ROUTE=B for route B), timed with /usr/bin/time -v, and prints 001 Table I's row for dataset A
+# ROUTE=B for route B; SEED=N another seed), timed with /usr/bin/time -v, and prints 001 Table I's row for dataset A
 # beside ours. It takes about 40 min to simulate (12 GB of images) and 20 min to map.
 # `slow` runs the preset's own speed (9.5 mm/s at 7.5 fps, 1.3 mm a frame, its speed varying) on
 # two cuts: a 3 m straight pipe (2400 frames) and the first 1500 frames of route A (1.9 m: the
@@ -122,8 +122,13 @@ fi
 if [ "$WHICH" = route ]; then
   ROUTE=${ROUTE:-A}
   D=$OUT/route-$ROUTE
+  seed_flags=()
+  if [ -n "${SEED:-}" ]; then
+    D=$D-s$SEED
+    seed_flags=(--seed "$SEED")
+  fi
   if [ ! -f "$D/dataset.yaml" ]; then
-    "$P" simulate --preset fiberglass-network --set "route=$ROUTE" --out "$D" -q
+    "$P" simulate --preset fiberglass-network --set "route=$ROUTE" "${seed_flags[@]}" --out "$D" -q
   fi
   /usr/bin/time -v "$P" map "$D" --out "$D-run" -q "${CONFIG_FLAGS[@]}" >/dev/null 2>"$D-run.time"
   grep -E "Elapsed|Maximum resident" "$D-run.time"
