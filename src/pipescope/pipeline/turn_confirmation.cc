@@ -43,12 +43,18 @@ std::vector<std::string> UnconfirmedTurnReasons(
       const double own = t.initial_model[kPhi] * 180.0 / M_PI;
       const double disagreement =
           std::min(std::abs(own - fitting_angle_deg), std::abs(own - (180.0 - fitting_angle_deg)));
-      if (disagreement <= kMaxFittingAngleDisagreementDeg) continue;
+      const std::string check =
+          disagreement <= kMaxFittingAngleDisagreementDeg
+              ? fmt::format("its end cylinders meet at {:.1f} deg", own)
+              : fmt::format(
+                    "but its end cylinders meet at {:.1f} deg, more than {:.0f} deg from it: the "
+                    "fitting may not be what was given",
+                    own, kMaxFittingAngleDisagreementDeg);
       reasons.push_back(fmt::format(
-          "the turn at {} was held at the given fitting angle ({:.1f} deg, t_fitting_angle_deg), "
-          "but its end cylinders meet at {:.1f} deg, more than {:.0f} deg from it: the fitting "
-          "may not be what was given, and positions past it are not confirmed",
-          where, fitting_angle_deg, own, kMaxFittingAngleDisagreementDeg));
+          "the turn at {} was held at the given fitting angle ({:.1f} deg, t_fitting_angle_deg; "
+          "{}) and no closed loop confirms it, nor the heading of the pipes on either side: "
+          "positions past it are not confirmed",
+          where, fitting_angle_deg, check));
       continue;
     }
     const std::string measured =

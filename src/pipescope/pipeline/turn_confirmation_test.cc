@@ -79,32 +79,38 @@ TEST(TurnConfirmation, AHeldLoopConfirmsTheTurnsInsideIt) {
   }
 }
 
-// A given fitting angle confirms an adjusted turn whose end cylinders meet within 20 degrees of
-// it (or of 180 less it); one beyond is a reason that names both angles. A T whose adjustment
-// was not applied kept its chained turn: the given angle does not confirm it.
-TEST(TurnConfirmation, AGivenFittingAngleConfirmsTheTurnsThatAgreeWithIt) {
+// A given fitting angle does not confirm a turn (nothing but a held loop does), but its reason
+// says the angle was given and whether the end cylinders meet within 20 degrees of it (or of 180
+// less it); one beyond names both angles. A T whose adjustment was not applied kept its chained
+// turn, and its reason says so.
+TEST(TurnConfirmation, AGivenFittingAngleIsNamedAndCheckedButConfirmsNothing) {
   std::vector<TIntersectionRecord> ts = {Turn(1), Turn(3), Turn(5), Turn(7, "image rms")};
   ts[0].initial_model[kPhi] = 103.3 * M_PI / 180.0;  // 13.3 off 90
   ts[1].initial_model[kPhi] = 76.0 * M_PI / 180.0;   // 14 off
   ts[2].initial_model[kPhi] = 47.0 * M_PI / 180.0;   // a wye taken for a tee
   const std::vector<std::string> reasons =
       UnconfirmedTurnReasons(ts, {"J1", "J2", "J3", ""}, LoopClosureRecord(), 0.01, 90.0);
-  ASSERT_EQ(reasons.size(), 2u);
-  EXPECT_NE(reasons[0].find("junction J3"), std::string::npos) << reasons[0];
-  EXPECT_NE(reasons[0].find("given fitting angle (90.0 deg"), std::string::npos) << reasons[0];
-  EXPECT_NE(reasons[0].find("meet at 47.0 deg"), std::string::npos) << reasons[0];
-  EXPECT_NE(reasons[1].find("chained key frames alone"), std::string::npos) << reasons[1];
+  ASSERT_EQ(reasons.size(), 4u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NE(reasons[i].find("given fitting angle (90.0 deg"), std::string::npos) << reasons[i];
+    EXPECT_NE(reasons[i].find("positions past it are not confirmed"), std::string::npos);
+  }
+  EXPECT_EQ(reasons[0].find("may not be what was given"), std::string::npos) << reasons[0];
+  EXPECT_EQ(reasons[1].find("may not be what was given"), std::string::npos) << reasons[1];
+  EXPECT_NE(reasons[2].find("meet at 47.0 deg, more than 20 deg from it"), std::string::npos)
+      << reasons[2];
+  EXPECT_NE(reasons[3].find("chained key frames alone"), std::string::npos) << reasons[3];
   // A 45-degree wye: 47 agrees, and so does 133 (the branch taken the other way); 103.3 does not.
+  ts[0].initial_model[kPhi] = 133.0 * M_PI / 180.0;
   const std::vector<std::string> wye =
       UnconfirmedTurnReasons(ts, {"J1", "J2", "J3", ""}, LoopClosureRecord(), 0.01, 45.0);
-  ASSERT_EQ(wye.size(), 3u);
-  EXPECT_TRUE(Names(wye, "junction J1"));
-  EXPECT_TRUE(Names(wye, "junction J2"));
-  EXPECT_FALSE(Names(wye, "junction J3"));
-  ts[0].initial_model[kPhi] = 133.0 * M_PI / 180.0;
-  EXPECT_FALSE(
-      Names(UnconfirmedTurnReasons(ts, {"J1", "J2", "J3", ""}, LoopClosureRecord(), 0.01, 45.0),
-            "junction J1"));
+  ASSERT_EQ(wye.size(), 4u);
+  EXPECT_EQ(wye[0].find("may not be what was given"), std::string::npos) << wye[0];
+  EXPECT_NE(wye[1].find("may not be what was given"), std::string::npos) << wye[1];
+  EXPECT_EQ(wye[2].find("may not be what was given"), std::string::npos) << wye[2];
+  // Inside a held loop a held turn is confirmed like any other.
+  EXPECT_TRUE(
+      UnconfirmedTurnReasons({Turn(5)}, {"J3"}, LoopThroughT4(true, 0.014), 0.01, 90.0).empty());
 }
 
 }  // namespace
