@@ -3,7 +3,10 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 
 namespace pipescope {
@@ -28,6 +31,21 @@ inline CommandResult RunPipescope(const std::string& arguments,
   const int status = pclose(pipe);
   result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+// Overwrites a dataset's frames [first, end) (images/%06d.png) with plain noise about mid-grey
+// (sigma 3 grey levels): frames that show nothing to track. False when a frame cannot be written.
+inline bool WritePlainNoiseFrames(const std::string& dataset, int first, int end, int width,
+                                  int height, std::uint64_t seed) {
+  cv::RNG rng(seed);
+  for (int index = first; index < end; ++index) {
+    cv::Mat plain(height, width, CV_8U);
+    rng.fill(plain, cv::RNG::NORMAL, 120.0, 3.0);
+    char name[32];
+    std::snprintf(name, sizeof(name), "/images/%06d.png", index);
+    if (!cv::imwrite(dataset + name, plain)) return false;
+  }
+  return true;
 }
 
 }  // namespace pipescope

@@ -327,14 +327,7 @@ TEST_F(MapCli, BadInputExitsTwoAndNamesTheCulprit) {
 TEST_F(MapCli, AFailedRunSaysWhichFramesFailedAndWhy) {
   const std::string noise = Path("plain_noise");
   std::filesystem::copy(Path("ds"), noise, std::filesystem::copy_options::recursive);
-  cv::RNG rng(3);
-  for (int index = 1; index < 24; ++index) {
-    cv::Mat plain(480, 640, CV_8U);
-    rng.fill(plain, cv::RNG::NORMAL, 120.0, 3.0);
-    char name[32];
-    std::snprintf(name, sizeof(name), "/images/%06d.png", index);
-    ASSERT_TRUE(cv::imwrite(noise + name, plain));
-  }
+  ASSERT_TRUE(WritePlainNoiseFrames(noise, 1, 24, 640, 480, 3));
   const CommandResult result = RunPipescope("map " + noise + " --out " + Path("run-noise") +
                                             " --config " + Path("config.yaml") + " -q");
   EXPECT_EQ(result.exit_status, 1) << result.output;

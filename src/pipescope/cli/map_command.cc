@@ -140,9 +140,8 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
 }
 
 // run.json `t_intersections` (001 §III-D), and the junctions (named J1, J2, ... in the order
-// passed) whose centre a model placed, for junctions.yaml. `fitting_angle_deg` > 0: the angle
-// every adjusted T held (t_fitting_angle_deg).
-nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result, double fitting_angle_deg,
+// passed) whose centre a model placed, for junctions.yaml.
+nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
                                   std::vector<Junction>* junctions) {
   nlohmann::json entries = nlohmann::json::array();
   for (const TIntersectionRecord& t : result.t_intersections) {
@@ -167,7 +166,7 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result, double fit
       entry["blue_axis"] = Vector(t.geometry.blue_direction);
       entry["phi_deg"] = t.model[kPhi] * 180.0 / M_PI;
       // "given": held at the user's fitting angle; "measured": the T model's own.
-      entry["phi_source"] = fitting_angle_deg > 0.0 && t.rejection.empty() ? "given" : "measured";
+      entry["phi_source"] = t.phi_given ? "given" : "measured";
       entry["l_red_m"] = t.model[kLengthRed];
       entry["l_blue_m"] = t.model[kLengthBlue];
       entry["axis_gap_m"] = t.axis_gap_m;
@@ -362,8 +361,7 @@ int RunMap(const RunFlags& flags) {
   }
   report.Extra("windows") = windows;
   std::vector<Junction> junctions;
-  report.Extra("t_intersections") =
-      TIntersectionsJson(result, options.t_intersections.fitting_angle_deg, &junctions);
+  report.Extra("t_intersections") = TIntersectionsJson(result, &junctions);
   for (const TIntersectionRecord& t : result.t_intersections) {
     if (t.rejection.empty()) continue;
     report.Warn("the T-intersection of key frames " + std::to_string(t.red_keyframe) + "-" +
@@ -442,9 +440,9 @@ int RunMap(const RunFlags& flags) {
   for (const TIntersectionRecord& t : result.t_intersections) {
     junction_names.push_back(t.modelled ? junctions[next_junction++].name : "");
   }
-  run.SetQuality(states, reasons, KeyframeQualityLimits(keyframe_frames),
-                 UnconfirmedTurnReasons(result.t_intersections, junction_names, result.loop_closure,
-                                        0.01, options.t_intersections.fitting_angle_deg));
+  run.SetQuality(
+      states, reasons, KeyframeQualityLimits(keyframe_frames),
+      UnconfirmedTurnReasons(result.t_intersections, junction_names, result.loop_closure));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
   WriteSparsePly(result, &run);

@@ -164,14 +164,7 @@ TEST_F(OdometryCli, WithoutMethodFallsBackWhenTheFilterIsUnreliable) {
                    " --frames 40 --set speed_m_s=0.03 --set width=512 --set height=384"
                    " --set white_card_count=2 -q");
   ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
-  cv::RNG rng(5);
-  for (int index = 8; index < 40; ++index) {
-    cv::Mat plain(384, 512, CV_8U);
-    rng.fill(plain, cv::RNG::NORMAL, 120.0, 3.0);
-    char name[32];
-    std::snprintf(name, sizeof(name), "/images/%06d.png", index);
-    ASSERT_TRUE(cv::imwrite(data + name, plain));
-  }
+  ASSERT_TRUE(WritePlainNoiseFrames(data, 8, 40, 512, 384, 5));
   const CommandResult result =
       RunPipescope("odometry " + data + " --out " + Path("run-fallback") + " --no-report");
   ASSERT_EQ(result.exit_status, 0) << result.output;

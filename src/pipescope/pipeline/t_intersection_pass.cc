@@ -381,6 +381,7 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
     record.rejection = "moved too far";
   }
   if (!record.rejection.empty()) return record;
+  record.phi_given = options_.fitting_angle_deg > 0.0;
 
   const Eigen::Isometry3d blue_before = poses[blue];
   for (int k = red + 1; k < blue; ++k) poses[k] = problem.poses[k - red].ToIsometry().inverse();

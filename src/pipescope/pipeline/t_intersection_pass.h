@@ -69,6 +69,8 @@ struct TIntersectionRecord {
   // "moved too far".
   std::string rejection;
   bool modelled = false;  // a model (initial or adjusted) places the centre below
+  // Adjusted with phi held at the fittings' angle (fitting_angle_deg), not measured.
+  bool phi_given = false;
   double model[kTIntersectionParameters] = {0, 0, 0, 0, 0};
   double initial_model[kTIntersectionParameters] = {0, 0, 0, 0, 0};  // from the end cylinders
   double axis_gap_m = 0.0;  // between the end cylinders' axes before the adjustment

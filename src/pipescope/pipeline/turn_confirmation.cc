@@ -27,7 +27,7 @@ bool InsideHeldLoop(int section, const LoopClosureRecord& loop_closure, double m
 std::vector<std::string> UnconfirmedTurnReasons(
     const std::vector<TIntersectionRecord>& t_intersections,
     const std::vector<std::string>& junction_names, const LoopClosureRecord& loop_closure,
-    double max_gap_share, double fitting_angle_deg) {
+    double max_gap_share) {
   std::vector<std::string> reasons;
   for (std::size_t i = 0; i < t_intersections.size(); ++i) {
     const TIntersectionRecord& t = t_intersections[i];
@@ -39,12 +39,11 @@ std::vector<std::string> UnconfirmedTurnReasons(
                                  : "the T-intersection";
     const std::string where =
         fmt::format("{} (key frames {}-{})", name, t.red_keyframe, t.blue_keyframe);
-    if (fitting_angle_deg > 0.0 && t.rejection.empty()) {
+    if (t.phi_given) {
+      const double held = t.model[kPhi] * 180.0 / M_PI;
       const double own = t.initial_model[kPhi] * 180.0 / M_PI;
-      const double disagreement =
-          std::min(std::abs(own - fitting_angle_deg), std::abs(own - (180.0 - fitting_angle_deg)));
       const std::string check =
-          disagreement <= kMaxFittingAngleDisagreementDeg
+          std::abs(own - held) <= kMaxFittingAngleDisagreementDeg
               ? fmt::format("its end cylinders meet at {:.1f} deg", own)
               : fmt::format(
                     "but its end cylinders meet at {:.1f} deg, more than {:.0f} deg from it: the "
@@ -54,7 +53,7 @@ std::vector<std::string> UnconfirmedTurnReasons(
           "the turn at {} was held at the given fitting angle ({:.1f} deg, t_fitting_angle_deg; "
           "{}) and no closed loop confirms it, nor the heading of the pipes on either side: "
           "positions past it are not confirmed",
-          where, fitting_angle_deg, check));
+          where, held, check));
       continue;
     }
     const std::string measured =

@@ -21,22 +21,20 @@ namespace pipescope {
 // placed no centre). Returns one reason per unconfirmed turn, for run.json's quality block; a T
 // passed straight through (rejection "no turn") is no turn.
 //
-// `fitting_angle_deg` > 0: the user gave the fittings' angle (t_fitting_angle_deg) and every
-// adjusted T held its phi there. Such a turn rests on the given angle, not on the images, and is
-// still a reason outside a held loop: the angle is the user's word, and the heading of the
-// straight pipes on either side drifts too (route A's 26 000 frames with every T held at 90:
-// T1-T4 4.4 % off, its orientation RMS 8.4 deg). The reason says so, and says whether the end
-// cylinders' own angle (the model's start, record.initial_model) lies more than
-// kMaxFittingAngleDisagreementDeg from the given one (or from 180 less it): then the fitting may
-// not be what the user said. A T whose adjustment was not applied kept its chained turn and is
-// judged as without a given angle.
+// A T adjusted with its angle held at the user's fitting angle (record.phi_given,
+// t_fitting_angle_deg) rests on that angle, not on the images, and is still a reason outside a
+// held loop: the angle is the user's word, and the heading of the straight pipes on either side
+// drifts too (route A's 26 000 frames with every T held at 90: T1-T4 4.4 % off, its orientation
+// RMS 8.4 deg). The reason says so, and says whether the end cylinders' own angle (the model's
+// start, record.initial_model) lies more than kMaxFittingAngleDisagreementDeg from the held one:
+// then the fitting may not be what the user said.
 std::vector<std::string> UnconfirmedTurnReasons(
     const std::vector<TIntersectionRecord>& t_intersections,
     const std::vector<std::string>& junction_names, const LoopClosureRecord& loop_closure,
-    double max_gap_share = 0.01, double fitting_angle_deg = 0.0);
+    double max_gap_share = 0.01);
 
-// The end cylinders' angle erred by up to 13.3 degrees on the simulated networks' Ts (88.3-103.3
-// for 89.6-90); a 45-degree wye taken for a tee is 45 off.
+// The end cylinders' angle erred by up to 17.2 degrees on the simulated networks' Ts (84.9-107.2
+// for 89.6-90 over seven runs); a 45-degree wye taken for a tee is 45 off.
 constexpr double kMaxFittingAngleDisagreementDeg = 20.0;
 
 }  // namespace pipescope

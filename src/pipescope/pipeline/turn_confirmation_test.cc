@@ -79,38 +79,43 @@ TEST(TurnConfirmation, AHeldLoopConfirmsTheTurnsInsideIt) {
   }
 }
 
+// A T held at a given fitting angle: as a record with phi_given, its phi the held angle and
+// initial_model the end cylinders' own.
+TIntersectionRecord HeldTurn(int section, double held_deg, double own_deg) {
+  TIntersectionRecord t = Turn(section);
+  t.phi_given = true;
+  t.model[kPhi] = held_deg * M_PI / 180.0;
+  t.initial_model[kPhi] = own_deg * M_PI / 180.0;
+  return t;
+}
+
 // A given fitting angle does not confirm a turn (nothing but a held loop does), but its reason
-// says the angle was given and whether the end cylinders meet within 20 degrees of it (or of 180
-// less it); one beyond names both angles. A T whose adjustment was not applied kept its chained
-// turn, and its reason says so.
+// says the angle was given and whether the end cylinders meet within 20 degrees of it; one
+// beyond names both angles.
 TEST(TurnConfirmation, AGivenFittingAngleIsNamedAndCheckedButConfirmsNothing) {
-  std::vector<TIntersectionRecord> ts = {Turn(1), Turn(3), Turn(5), Turn(7, "image rms")};
-  ts[0].initial_model[kPhi] = 103.3 * M_PI / 180.0;  // 13.3 off 90
-  ts[1].initial_model[kPhi] = 76.0 * M_PI / 180.0;   // 14 off
-  ts[2].initial_model[kPhi] = 47.0 * M_PI / 180.0;   // a wye taken for a tee
+  const std::vector<TIntersectionRecord> ts = {
+      HeldTurn(1, 90.0, 103.3), HeldTurn(3, 90.0, 76.0),
+      HeldTurn(5, 90.0, 47.0),    // a wye taken for a tee
+      HeldTurn(7, 135.0, 133.0),  // a 45-degree wye, its branch taken the other way
+      Turn(9, "image rms")};
   const std::vector<std::string> reasons =
-      UnconfirmedTurnReasons(ts, {"J1", "J2", "J3", ""}, LoopClosureRecord(), 0.01, 90.0);
-  ASSERT_EQ(reasons.size(), 4u);
-  for (int i = 0; i < 3; ++i) {
-    EXPECT_NE(reasons[i].find("given fitting angle (90.0 deg"), std::string::npos) << reasons[i];
+      UnconfirmedTurnReasons(ts, {"J1", "J2", "J3", "J4", ""}, LoopClosureRecord());
+  ASSERT_EQ(reasons.size(), 5u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NE(reasons[i].find("held at the given fitting angle"), std::string::npos) << reasons[i];
     EXPECT_NE(reasons[i].find("positions past it are not confirmed"), std::string::npos);
   }
-  EXPECT_EQ(reasons[0].find("may not be what was given"), std::string::npos) << reasons[0];
-  EXPECT_EQ(reasons[1].find("may not be what was given"), std::string::npos) << reasons[1];
+  EXPECT_NE(reasons[0].find("(90.0 deg"), std::string::npos) << reasons[0];
+  EXPECT_NE(reasons[3].find("(135.0 deg"), std::string::npos) << reasons[3];
+  for (int i : {0, 1, 3}) {
+    EXPECT_EQ(reasons[i].find("may not be what was given"), std::string::npos) << reasons[i];
+  }
   EXPECT_NE(reasons[2].find("meet at 47.0 deg, more than 20 deg from it"), std::string::npos)
       << reasons[2];
-  EXPECT_NE(reasons[3].find("chained key frames alone"), std::string::npos) << reasons[3];
-  // A 45-degree wye: 47 agrees, and so does 133 (the branch taken the other way); 103.3 does not.
-  ts[0].initial_model[kPhi] = 133.0 * M_PI / 180.0;
-  const std::vector<std::string> wye =
-      UnconfirmedTurnReasons(ts, {"J1", "J2", "J3", ""}, LoopClosureRecord(), 0.01, 45.0);
-  ASSERT_EQ(wye.size(), 4u);
-  EXPECT_EQ(wye[0].find("may not be what was given"), std::string::npos) << wye[0];
-  EXPECT_NE(wye[1].find("may not be what was given"), std::string::npos) << wye[1];
-  EXPECT_EQ(wye[2].find("may not be what was given"), std::string::npos) << wye[2];
+  EXPECT_NE(reasons[4].find("chained key frames alone"), std::string::npos) << reasons[4];
   // Inside a held loop a held turn is confirmed like any other.
-  EXPECT_TRUE(
-      UnconfirmedTurnReasons({Turn(5)}, {"J3"}, LoopThroughT4(true, 0.014), 0.01, 90.0).empty());
+  EXPECT_TRUE(UnconfirmedTurnReasons({HeldTurn(5, 90.0, 92.0)}, {"J3"}, LoopThroughT4(true, 0.014))
+                  .empty());
 }
 
 }  // namespace
