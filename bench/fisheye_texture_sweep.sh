@@ -6,8 +6,9 @@
 # distance error and ATE from metrics.json, the verdict and the predicted frames from run.json,
 # or the run's error when it failed. A run more than 2 % off that calls itself reliable is marked
 # SILENT.
-# Usage: CONTRASTS="0.4 0.6 0.8 1" NOISES="1 2 3" SEEDS="1" bench/fisheye_texture_sweep.sh
-#        [BUILD_DIR] [OUT_DIR]
+# CONFIG=FILE runs map with that config (say `matcher: lucas-kanade`).
+# Usage: CONTRASTS="0.4 0.6 0.8 1" NOISES="1 2 3" SEEDS="1" [CONFIG=FILE]
+#        bench/fisheye_texture_sweep.sh [BUILD_DIR] [OUT_DIR]
 set -euo pipefail
 BUILD_DIR=${1:-build}
 OUT=${2:-/tmp/pipescope_fisheye_texture_sweep}
@@ -15,6 +16,8 @@ CONTRASTS=${CONTRASTS:-0.4 0.6 0.8 1}
 NOISES=${NOISES:-1 2 3}
 SEEDS=${SEEDS:-1}
 P=$BUILD_DIR/pipescope
+CONFIG_ARGS=()
+if [ -n "${CONFIG:-}" ]; then CONFIG_ARGS=(--config "$CONFIG"); fi
 mkdir -p "$OUT/runs"
 SETUP="--preset fiberglass-network --frames 210 --set layout=straight --set length_m=2.7 \
 --set end_margin_m=0.3 --set speed_m_s=0.075 --set speed_variation=0.05 --set wander_wavelength_m=2 \
@@ -32,7 +35,7 @@ for seed in $SEEDS; do
           --seed "$seed" --out "$data" -q
       fi
       if [ ! -f "$run/run.json" ] && [ ! -f "$OUT/runs/$name.failed" ]; then
-        "$P" map "$data" --out "$run" --no-report -q >/dev/null 2>"$OUT/runs/$name.log" ||
+        "$P" map "$data" --out "$run" "${CONFIG_ARGS[@]}" --no-report -q >/dev/null 2>"$OUT/runs/$name.log" ||
           cp "$OUT/runs/$name.log" "$OUT/runs/$name.failed"
       fi
       if [ -f "$OUT/runs/$name.failed" ]; then

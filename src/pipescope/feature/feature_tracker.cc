@@ -4,8 +4,11 @@
 #include <cmath>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 
 #include "pipescope/feature/far_wall_corners.h"
+#include "pipescope/feature/round_trip_flow.h"
+#include "pipescope/image/flat_field.h"
 #include "pipescope/util/median.h"
 
 namespace pipescope {
@@ -76,7 +79,9 @@ void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
   state->grey = grey.clone();
   state->features = std::move(features);
   for (const TrackedFeature& feature : state->features) state->points.push_back(feature.pixel);
-  if (detection_rows.empty()) {
+  if (options_.matcher == kLucasKanadeMatcher) {
+    // No descriptors: the features are followed, not matched.
+  } else if (detection_rows.empty()) {
     state->descriptors = ComputeTemplateDescriptors(grey, state->points, options_.descriptor);
   } else {
     // A descriptor depends only on the image and the pixel: the detections' rows are copied,
@@ -102,15 +107,61 @@ void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
   keyframe->features = state->features;
   last_ = std::move(state);
   span_start_inliers_ = 0;
+  if (options_.matcher == kLucasKanadeMatcher) StartFollowing(grey);
+}
+
+cv::Mat FeatureTracker::FollowedImage(const cv::Mat& grey) const {
+  cv::Mat grey8;
+  grey.convertTo(grey8, CV_8U);
+  return FlatFieldedGrey8(grey8, options_.lk_flat_field_sigma_px);
+}
+
+void FeatureTracker::StartFollowing(const cv::Mat& grey) {
+  const int window = options_.lk_window_px;
+  follow_pyramid_.clear();
+  cv::buildOpticalFlowPyramid(FollowedImage(grey), follow_pyramid_, cv::Size(window, window),
+                              options_.lk_pyramid_levels);
+  follow_points_ = last_->points;
+  follow_feature_.resize(follow_points_.size());
+  for (std::size_t k = 0; k < follow_feature_.size(); ++k) follow_feature_[k] = static_cast<int>(k);
+}
+
+std::vector<FeatureMatch> FeatureTracker::FollowFeatures(const cv::Mat& grey,
+                                                         std::vector<cv::Point2f>* points) {
+  const cv::Size window(options_.lk_window_px, options_.lk_window_px);
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(FollowedImage(grey), pyramid, window, options_.lk_pyramid_levels);
+  const RoundTripFlow flow = TrackThereAndBack(follow_pyramid_, pyramid, follow_points_,
+                                               options_.lk_window_px, options_.lk_pyramid_levels);
+  // A followed feature stays while it returns to where it came from and stays inside the view
+  // its corners were detected in.
+  std::vector<cv::Point2f> kept;
+  std::vector<int> kept_feature;
+  std::vector<FeatureMatch> matches;
+  for (std::size_t i = 0; i < follow_points_.size(); ++i) {
+    if (flow.round_trip_px[i] > options_.lk_max_round_trip_px) continue;
+    const int x = static_cast<int>(std::lround(flow.forward[i].x));
+    const int y = static_cast<int>(std::lround(flow.forward[i].y));
+    if (x < 0 || y < 0 || x >= grey.cols || y >= grey.rows || !detection_mask_.at<uchar>(y, x))
+      continue;
+    matches.push_back({follow_feature_[i], static_cast<int>(kept.size()), 1.0f});
+    kept.push_back(flow.forward[i]);
+    kept_feature.push_back(follow_feature_[i]);
+  }
+  follow_pyramid_ = std::move(pyramid);
+  follow_points_ = kept;
+  follow_feature_ = std::move(kept_feature);
+  *points = std::move(kept);
+  return matches;
 }
 
 TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
                                    TrackedKeyframe* keyframe) {
   TrackingStep step;
-  const std::vector<cv::Point2f> points = Detect(grey);
+  const bool follow = options_.matcher == kLucasKanadeMatcher;
   if (!last_) {
     std::vector<TrackedFeature> features;
-    for (const cv::Point2f& point : points) {
+    for (const cv::Point2f& point : Detect(grey)) {
       TrackedFeature feature;
       if (!Bearing(point, &feature.bearing)) continue;
       feature.track_id = next_track_id_++;
@@ -124,9 +175,19 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     return step;
   }
 
-  const cv::Mat descriptors = ComputeTemplateDescriptors(grey, points, options_.descriptor);
-  const std::vector<FeatureMatch> matches = MatchByCosineSimilarity(
-      last_->descriptors, last_->points, descriptors, points, options_.matching);
+  // The frame's points and their matches to the key frame's features: followed, or detected
+  // and matched by their templates.
+  std::vector<cv::Point2f> points;
+  cv::Mat descriptors;
+  std::vector<FeatureMatch> matches;
+  if (follow) {
+    matches = FollowFeatures(grey, &points);
+  } else {
+    points = Detect(grey);
+    descriptors = ComputeTemplateDescriptors(grey, points, options_.descriptor);
+    matches = MatchByCosineSimilarity(last_->descriptors, last_->points, descriptors, points,
+                                      options_.matching);
+  }
   std::vector<Eigen::Vector3d> bearings_i, bearings_j;
   std::vector<FeatureMatch> usable_matches;
   for (const FeatureMatch& match : matches) {
@@ -146,7 +207,8 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     step.usable = false;
     step.failure = "only " + std::to_string(pose.num_inliers) + " of " +
                    std::to_string(usable_matches.size()) +
-                   " template matches agree with one relative pose";
+                   (follow ? " followed features" : " template matches") +
+                   " agree with one relative pose";
     return step;
   }
   std::vector<double> flows;
@@ -177,8 +239,9 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     detection_rows.push_back(match.index_b);
   }
   const int matches_cosine = static_cast<int>(features.size());
-  // ... the key frame's unmatched features are searched for by guided ZNCC ...
-  if (options_.guided_matching) {
+  // ... the key frame's unmatched features are searched for by guided ZNCC (Lucas-Kanade
+  // already searched for every one) ...
+  if (options_.guided_matching && !follow) {
     std::vector<std::size_t> unmatched;
     for (std::size_t i = 0; i < last_->features.size(); ++i) {
       if (!matched_i[i]) unmatched.push_back(i);
@@ -209,22 +272,25 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
     }
   }
   const int matches_guided = static_cast<int>(features.size()) - matches_cosine;
-  // ... and the remaining detections start new tracks, unless they duplicate a tracked one.
+  // ... and the remaining detections start new tracks, unless they duplicate a tracked one (a
+  // template match is a detection itself; a followed feature is not).
+  const std::vector<cv::Point2f> detections = follow ? Detect(grey) : points;
   const double duplicate2 = options_.duplicate_radius_px * options_.duplicate_radius_px;
   const std::size_t tracked_count = features.size();
-  for (std::size_t j = 0; j < points.size(); ++j) {
-    if (used_j[j]) continue;
+  const std::size_t first_compared = follow ? 0 : matches_cosine;
+  for (std::size_t j = 0; j < detections.size(); ++j) {
+    if (!follow && used_j[j]) continue;
     bool duplicate = false;
-    for (std::size_t k = matches_cosine; k < tracked_count && !duplicate; ++k) {
-      const cv::Point2f d = features[k].pixel - points[j];
+    for (std::size_t k = first_compared; k < tracked_count && !duplicate; ++k) {
+      const cv::Point2f d = features[k].pixel - detections[j];
       duplicate = d.dot(d) < duplicate2;
     }
     if (duplicate) continue;
-    TrackedFeature feature{next_track_id_, points[j], Eigen::Vector3d()};
-    if (!Bearing(points[j], &feature.bearing)) continue;
+    TrackedFeature feature{next_track_id_, detections[j], Eigen::Vector3d()};
+    if (!Bearing(detections[j], &feature.bearing)) continue;
     ++next_track_id_;
     features.push_back(feature);
-    detection_rows.push_back(static_cast<int>(j));
+    detection_rows.push_back(follow ? -1 : static_cast<int>(j));
   }
   *keyframe = TrackedKeyframe();
   keyframe->has_previous = true;

@@ -26,7 +26,26 @@ namespace pipescope {
 // so the 31 x 31 descriptor region fits.
 RegionHarrisOptions FisheyeRegionHarrisOptions();
 
+// How the frames after a key frame find its features (FeatureTrackerOptions::matcher).
+// 001 §III-A: region Harris corners detected in every frame, their template descriptors matched
+// by cosine similarity against the key frame's.
+inline constexpr const char* kTemplateMatcher = "templates";
+// The key frame's features followed frame to frame by pyramidal Lucas-Kanade, each step checked
+// by tracking back; corners are detected only at key frames. A template match needs the same
+// corner to win in both images; Lucas-Kanade integrates a 21 x 21 window, so weak texture under
+// noise keeps its tracks (docs/conditions.md).
+inline constexpr const char* kLucasKanadeMatcher = "lucas-kanade";
+
 struct FeatureTrackerOptions {
+  std::string matcher = kTemplateMatcher;
+  // Lucas-Kanade: window, pyramid levels, and the round trip a track must return within.
+  int lk_window_px = 21;
+  int lk_pyramid_levels = 3;
+  double lk_max_round_trip_px = 0.5;
+  // Lucas-Kanade follows the frames flat-fielded with this sigma (image/flat_field.h): the
+  // lights ride with the camera, and on the rendered preset the shading held the tracks to
+  // about half the true flow.
+  double lk_flat_field_sigma_px = 8.0;
   RegionHarrisOptions harris = FisheyeRegionHarrisOptions();
   TemplateDescriptorOptions descriptor;
   CosineMatchOptions matching;
@@ -107,7 +126,8 @@ class FeatureTracker {
   void Reset() { last_.reset(); }
 
   const BearingTable& bearings() const { return bearings_; }
-  // The last key frame's template descriptors, one row per feature of its TrackedKeyframe.
+  // The last key frame's template descriptors, one row per feature of its TrackedKeyframe (none
+  // with kLucasKanadeMatcher).
   const cv::Mat& keyframe_descriptors() const { return last_ ? last_->descriptors : empty_; }
 
  private:
@@ -120,6 +140,13 @@ class FeatureTracker {
   };
 
   std::vector<cv::Point2f> Detect(const cv::Mat& grey) const;
+  // Follows the key frame's features into `grey` (kLucasKanadeMatcher): the matches
+  // of last_->features (index_a) to `*points` (index_b), the pixels they were followed to.
+  std::vector<FeatureMatch> FollowFeatures(const cv::Mat& grey, std::vector<cv::Point2f>* points);
+  // What Lucas-Kanade follows: `grey` flat-fielded (lk_flat_field_sigma_px), CV_8U.
+  cv::Mat FollowedImage(const cv::Mat& grey) const;
+  // Starts following `grey`'s key-frame features (last_) anew.
+  void StartFollowing(const cv::Mat& grey);
   bool Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const;
   // Whether a frame `frames_since_keyframe` after the key frame, with this median flow to it,
   // ends the span by its flow: it reached min_median_flow_px, or the next frame's would pass
@@ -137,6 +164,11 @@ class FeatureTracker {
   cv::Mat detection_mask_;
   cv::Mat far_wall_mask_;  // detection_mask_ within far_wall_cone_deg of the optical axis
   std::unique_ptr<KeyframeState> last_;
+  // Lucas-Kanade: the previous frame's pyramid, and where each followed feature of last_ is
+  // (its index in last_->features, its pixel in the previous frame).
+  std::vector<cv::Mat> follow_pyramid_;
+  std::vector<int> follow_feature_;
+  std::vector<cv::Point2f> follow_points_;
   std::optional<SphereRelativePose> last_motion_;  // the last key-frame step, a RANSAC prior
   int span_start_inliers_ = 0;  // of the first frame tracked after the last key frame; 0: none yet
   // The flow per frame of each of the last kRecentSpans key-frame spans (the crawler's pace).

@@ -4,6 +4,9 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "pipescope/feature/round_trip_flow.h"
+#include "pipescope/image/flat_field.h"
+
 namespace pipescope {
 
 KltTracker::KltTracker(const KltTrackerOptions& options) : options_(options) {}
@@ -23,30 +26,21 @@ std::vector<KltPair> KltTracker::Track(const cv::Mat& grey8) {
   std::vector<KltPair> pairs;
   const cv::Size window(options_.window_px, options_.window_px);
   std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(TrackedImage(grey8), pyramid, window, options_.pyramid_levels);
+  cv::buildOpticalFlowPyramid(FlatFieldedGrey8(grey8, options_.flat_field_sigma_px), pyramid,
+                              window, options_.pyramid_levels);
   if (!points_.empty()) {
-    std::vector<cv::Point2f> forward, backward;
-    std::vector<unsigned char> status_forward, status_backward;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, points_, forward, status_forward, error,
-                             window, options_.pyramid_levels);
-    backward = points_;
-    cv::calcOpticalFlowPyrLK(
-        pyramid, previous_pyramid_, forward, backward, status_backward, error, window,
-        options_.pyramid_levels,
-        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01),
-        cv::OPTFLOW_USE_INITIAL_FLOW);
+    const RoundTripFlow flow = TrackThereAndBack(previous_pyramid_, pyramid, points_,
+                                                 options_.window_px, options_.pyramid_levels);
     const float border = static_cast<float>(options_.border_px);
     std::vector<cv::Point2f> kept;
     std::vector<long> kept_ids;
     for (std::size_t i = 0; i < points_.size(); ++i) {
-      if (!status_forward[i] || !status_backward[i]) continue;
-      const cv::Point2f& p = forward[i];
+      if (flow.round_trip_px[i] > options_.max_round_trip_px) continue;
+      const cv::Point2f& p = flow.forward[i];
       if (p.x < border || p.y < border || p.x > grey8.cols - 1 - border ||
           p.y > grey8.rows - 1 - border) {
         continue;
       }
-      if (cv::norm(backward[i] - points_[i]) > options_.max_round_trip_px) continue;
       if (!inner_view_.empty() && inner_view_.at<uchar>(cvRound(p.y), cvRound(p.x)) == 0) {
         continue;
       }
@@ -61,25 +55,6 @@ std::vector<KltPair> KltTracker::Track(const cv::Mat& grey8) {
   previous_pyramid_ = std::move(pyramid);
   previous_ = grey8;
   return pairs;
-}
-
-cv::Mat KltTracker::TrackedImage(const cv::Mat& grey8) const {
-  const double sigma = options_.flat_field_sigma_px;
-  if (sigma <= 0.0) return grey8;
-  cv::Mat grey;
-  grey8.convertTo(grey, CV_32F);
-  // The shading is smooth: blur a quarter-size copy and bring it back, a sixteenth of the cost of
-  // a full-size blur with a kernel this wide.
-  const int shrink = sigma >= 8.0 ? 4 : 1;
-  cv::Mat small, shading;
-  cv::resize(grey, small, cv::Size(grey.cols / shrink, grey.rows / shrink), 0, 0, cv::INTER_AREA);
-  cv::GaussianBlur(small, small, cv::Size(), sigma / shrink);
-  cv::resize(small, shading, grey.size(), 0, 0, cv::INTER_LINEAR);
-  // Light times albedo: dividing by the shading leaves the albedo, at mid-grey (the floor keeps
-  // the unlit depth from amplifying its noise without bound).
-  cv::Mat albedo = 128.0 * grey / cv::max(shading, 4.0), tracked;
-  albedo.convertTo(tracked, CV_8U);
-  return tracked;
 }
 
 void KltTracker::TopUp(const cv::Mat& grey8) {

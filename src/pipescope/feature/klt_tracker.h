@@ -60,8 +60,6 @@ class KltTracker {
 
  private:
   void TopUp(const cv::Mat& grey8);
-  // What Lucas-Kanade tracks: `grey8` flat-fielded (flat_field_sigma_px), CV_8U.
-  cv::Mat TrackedImage(const cv::Mat& grey8) const;
 
   KltTrackerOptions options_;
   cv::Mat inner_view_;  // SetViewMask's mask shrunk by half a window; empty = every pixel

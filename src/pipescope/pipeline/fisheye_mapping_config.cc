@@ -6,6 +6,22 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
   using O = FisheyeMappingOptions;
   static const OptionTable<O> table({
       // Tracking and classification (001 §III-A, §III-B).
+      Choice<O>(
+          "matcher", [](O& o) -> std::string& { return o.tracking.matcher; },
+          {kTemplateMatcher, kLucasKanadeMatcher},
+          "how frames find the key frame's features: templates (001) or lucas-kanade (followed "
+          "frame to frame; for weak texture under noise)"),
+      Number<O>(
+          "lk_window_px", [](O& o) -> int& { return o.tracking.lk_window_px; }, 5, 101, "px",
+          "lucas-kanade: window side"),
+      Number<O>(
+          "lk_max_round_trip_px", [](O& o) -> double& { return o.tracking.lk_max_round_trip_px; },
+          0.01, 100.0, "px", "lucas-kanade: a track must return within this when tracked back"),
+      Number<O>(
+          "lk_flat_field_sigma_px",
+          [](O& o) -> double& { return o.tracking.lk_flat_field_sigma_px; }, 0.0, 1000.0, "px",
+          "lucas-kanade: the frames are divided by their blur of this sigma (0: the frames as "
+          "they are)"),
       Number<O>(
           "per_region", [](O& o) -> int& { return o.tracking.harris.per_cell; }, 1, 10000, "",
           "region Harris: strongest corners per region (001: 200)"),

@@ -1,0 +1,33 @@
+#include "pipescope/feature/round_trip_flow.h"
+
+#include <limits>
+#include <opencv2/video/tracking.hpp>
+
+namespace pipescope {
+
+RoundTripFlow TrackThereAndBack(const std::vector<cv::Mat>& previous_pyramid,
+                                const std::vector<cv::Mat>& pyramid,
+                                const std::vector<cv::Point2f>& points, int window_px,
+                                int pyramid_levels) {
+  RoundTripFlow flow;
+  if (points.empty()) return flow;
+  const cv::Size window(window_px, window_px);
+  std::vector<unsigned char> status_forward, status_backward;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(previous_pyramid, pyramid, points, flow.forward, status_forward, error,
+                           window, pyramid_levels);
+  std::vector<cv::Point2f> backward = points;
+  cv::calcOpticalFlowPyrLK(
+      pyramid, previous_pyramid, flow.forward, backward, status_backward, error, window,
+      pyramid_levels, cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01),
+      cv::OPTFLOW_USE_INITIAL_FLOW);
+  flow.round_trip_px.resize(points.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (status_forward[i] && status_backward[i]) {
+      flow.round_trip_px[i] = cv::norm(backward[i] - points[i]);
+    }
+  }
+  return flow;
+}
+
+}  // namespace pipescope
