@@ -91,7 +91,8 @@ TEST(FisheyeTracking, KeyframeDescriptorsEqualFreshOnes) {
   SimulationConfig config = StraightFisheyeConfig(6);
   config.speed_m_s = 0.075;  // 1 cm a frame, as the benchmark
   const Simulation simulation(config);
-  const FeatureTrackerOptions options;
+  FeatureTrackerOptions options;
+  options.matcher = kTemplateMatcher;
   FeatureTracker tracker(simulation.camera(), options);
   int keyframes = 0, guided = 0;
   for (int index = 0; index < config.frames; ++index) {
@@ -115,11 +116,21 @@ TEST(FisheyeTracking, KeyframeDescriptorsEqualFreshOnes) {
 // was measured against all of the key frame's (most of them fresh detections matched once at
 // most), fell under the limit at every frame, and every frame became a key frame: 1.3 mm
 // baselines, and the map of a 3 m straight pipe ended 100 % off (docs/fisheye_mapping.md).
-TEST(FisheyeTracking, ASlowCrawlerGetsKeyFramesByItsFlow) {
+class FisheyeTrackingEitherMatcher : public testing::TestWithParam<const char*> {};
+
+INSTANTIATE_TEST_SUITE_P(Matchers, FisheyeTrackingEitherMatcher,
+                         testing::Values(kLucasKanadeMatcher, kTemplateMatcher),
+                         [](const testing::TestParamInfo<const char*>& info) {
+                           return std::string(info.param) == kTemplateMatcher ? "templates"
+                                                                              : "lucas_kanade";
+                         });
+
+TEST_P(FisheyeTrackingEitherMatcher, ASlowCrawlerGetsKeyFramesByItsFlow) {
   SimulationConfig config = StraightFisheyeConfig(60);
   ASSERT_NEAR(config.speed_m_s / config.fps, 0.00127, 0.0001);
   const Simulation simulation(config);
-  const FeatureTrackerOptions options;
+  FeatureTrackerOptions options;
+  options.matcher = GetParam();
   FeatureTracker tracker(simulation.camera(), options);
   std::vector<int> keyframe_frames;
   for (int index = 0; index < config.frames; ++index) {
@@ -145,9 +156,10 @@ TEST(FisheyeTracking, ASlowCrawlerGetsKeyFramesByItsFlow) {
 // 1 cm a frame) stays a key frame: the next frame's flow is predicted at the recent spans' pace,
 // not at the short step's own. Every 8th frame of the preset, about 1 cm apart (about 5 px at
 // 640x480; the flow limits halved with the image), with one step of 3 frames between.
-TEST(FisheyeTracking, OneShortStepKeepsEveryFrameAKeyFrame) {
+TEST_P(FisheyeTrackingEitherMatcher, OneShortStepKeepsEveryFrameAKeyFrame) {
   const Simulation simulation(SteadyStraightFisheyeConfig(68));
-  const FeatureTrackerOptions options = HalfSizeCentimetreOptions();
+  FeatureTrackerOptions options = HalfSizeCentimetreOptions();
+  options.matcher = GetParam();
   FeatureTracker tracker(simulation.camera(), options);
   const std::vector<int> frames = {0, 8, 16, 24, 32, 40, 43, 51, 59, 67};
   for (std::size_t k = 0; k < frames.size(); ++k) {
@@ -165,11 +177,6 @@ TEST(FisheyeTracking, OneShortStepKeepsEveryFrameAKeyFrame) {
   }
 }
 
-// The features the template matching misses are searched for along their epipolar curves
-// (guided ZNCC, 001 §III-A); they extend the tracks that set a window's rotation
-// (docs/fisheye_mapping.md, "Why a window can go wrong"), so they must be right: each lies
-// where the true poses put the wall point its track saw in the key frame before. Key frames
-// about 1 cm apart (every 8th frame; the flow limits halved with the image).
 // Where the true poses put, in frame `frame`, the wall point seen at `seen` in frame
 // `seen_frame` (the straight layout's pipe runs along the world z axis).
 Eigen::Vector2d TruePixel(const Simulation& simulation, double radius_m, int seen_frame,
@@ -226,10 +233,17 @@ class CarriedFeatureCheck {
   int previous_frame_ = -1;
 };
 
+// The features the template matching misses are searched for along their epipolar curves
+// (guided ZNCC, 001 §III-A); they extend the tracks that set a window's rotation
+// (docs/fisheye_mapping.md, "Why a window can go wrong"), so they must be right: each lies
+// where the true poses put the wall point its track saw in the key frame before. Key frames
+// about 1 cm apart (every 8th frame; the flow limits halved with the image).
 TEST(FisheyeTracking, GuidedMatchesLieWhereTheTruePosesPutThem) {
   const SimulationConfig config = SteadyStraightFisheyeConfig(60);
   const Simulation simulation(config);
-  FeatureTracker tracker(simulation.camera(), HalfSizeCentimetreOptions());
+  FeatureTrackerOptions options = HalfSizeCentimetreOptions();
+  options.matcher = kTemplateMatcher;
+  FeatureTracker tracker(simulation.camera(), options);
   CarriedFeatureCheck check(simulation, config.radius_m);
   int carried = 0;
   for (int frame = 0; frame < config.frames; frame += 8) {
@@ -255,8 +269,8 @@ TEST(FisheyeTracking, GuidedMatchesLieWhereTheTruePosesPutThem) {
 TEST(FisheyeTracking, FollowedFeaturesLieWhereTheTruePosesPutThem) {
   const SimulationConfig config = SteadyStraightFisheyeConfig(60);
   const Simulation simulation(config);
-  FeatureTrackerOptions options = HalfSizeCentimetreOptions();
-  options.matcher = kLucasKanadeMatcher;
+  const FeatureTrackerOptions options = HalfSizeCentimetreOptions();
+  ASSERT_EQ(options.matcher, kLucasKanadeMatcher);  // the default
   FeatureTracker tracker(simulation.camera(), options);
   CarriedFeatureCheck check(simulation, config.radius_m);
   int keyframes = 0;
