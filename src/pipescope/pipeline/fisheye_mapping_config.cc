@@ -39,17 +39,17 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "... or the inliers fall below this share of the first frame's after the key frame"),
       Number<O>(
           "min_similarity", [](O& o) -> double& { return o.tracking.matching.min_similarity; },
-          -1.0, 1.0, "", "template matching: cosine similarity of a match"),
+          -1.0, 1.0, "", "template matching (matcher: templates): cosine similarity of a match"),
       Number<O>(
           "inlier_threshold_rad",
           [](O& o) -> double& { return o.tracking.relative_pose.inlier_threshold_rad; }, 1e-5, 0.5,
           "rad", "relative pose on the sphere: RANSAC inlier threshold"),
       Flag<O>(
           "guided_matching", [](O& o) -> bool& { return o.tracking.guided_matching; },
-          "epipolar-guided ZNCC matching in the fisheye image"),
+          "epipolar-guided ZNCC matching in the fisheye image (matcher: templates)"),
       Number<O>(
           "min_zncc", [](O& o) -> double& { return o.tracking.guided.min_zncc; }, -1.0, 1.0, "",
-          "guided matching: ZNCC of a match"),
+          "guided matching (matcher: templates): ZNCC of a match"),
       Number<O>(
           "max_view_angle_deg", [](O& o) -> double& { return o.tracking.max_view_angle_deg; }, 1.0,
           180.0, "deg", "features further from the optical axis are not tracked"),
