@@ -58,14 +58,13 @@ std::vector<std::string> UnconfirmedTurnReasons(
     }
     const std::string measured =
         t.rejection.empty()
-            ? fmt::format(
-                  "rests on the T model alone (phi {:.1f} deg; the model erred by up to "
-                  "13 deg on the simulated networks)",
-                  t.model[kPhi] * 180.0 / M_PI)
+            ? fmt::format("rests on the T model alone (phi {:.1f} deg, measured)",
+                          t.model[kPhi] * 180.0 / M_PI)
             : "rests on the chained key frames alone (the T model was not applied: " + t.rejection +
                   ")";
     reasons.push_back("the turn at " + where + " " + measured +
-                      " and no closed loop confirms it: positions past it are not confirmed");
+                      " and no closed loop confirms it, nor the heading of the pipes on either "
+                      "side: positions past it are not confirmed");
   }
   return reasons;
 }
