@@ -44,7 +44,9 @@ FeatureTracker::FeatureTracker(const Camera& camera, const FeatureTrackerOptions
 
 std::vector<cv::Point2f> FeatureTracker::Detect(const cv::Mat& grey) const {
   std::vector<cv::Point2f> points;
-  for (const Keypoint& keypoint : DetectRegionHarris(grey, options_.harris, detection_mask_)) {
+  RegionHarrisOptions harris = options_.harris;
+  if (options_.matcher == kLucasKanadeMatcher) harris.per_cell = options_.lk_features_per_region;
+  for (const Keypoint& keypoint : DetectRegionHarris(grey, harris, detection_mask_)) {
     points.push_back(keypoint.position);
   }
   if (options_.far_wall_corners > 0) {
@@ -279,9 +281,11 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   const std::size_t tracked_count = features.size();
   const std::size_t first_compared = follow ? 0 : matches_cosine;
   // Followed features live long (a median of 1172 carried a key frame on the 8.4 m benchmark,
-  // against 179 template matches), so new ones only top each region up to its share: uncapped,
-  // 1686 features a key frame took the window adjustments to three times their time.
+  // against 179 template matches), so new ones only top each region up to its share
+  // (lk_features_per_region): uncapped, 1686 features a key frame took the window adjustments
+  // to three times their time.
   const RegionHarrisOptions& regions = options_.harris;
+  const int region_share = follow ? options_.lk_features_per_region : regions.per_cell;
   std::vector<int> region_count(regions.grid_rows * regions.grid_cols, 0);
   const auto region_of = [&](const cv::Point2f& pixel) {
     const int row =
@@ -295,7 +299,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   }
   for (std::size_t j = 0; j < detections.size(); ++j) {
     if (!follow && used_j[j]) continue;
-    if (follow && region_count[region_of(detections[j])] >= regions.per_cell) continue;
+    if (follow && region_count[region_of(detections[j])] >= region_share) continue;
     bool duplicate = false;
     for (std::size_t k = first_compared; k < tracked_count && !duplicate; ++k) {
       const cv::Point2f d = features[k].pixel - detections[j];

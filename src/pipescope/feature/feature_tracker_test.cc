@@ -296,7 +296,7 @@ TEST(FisheyeTracking, FollowedFeaturesLieWhereTheTruePosesPutThem) {
   EXPECT_GE(keyframes, 6);
   EXPECT_LE(keyframes, 10);
   EXPECT_GE(check.checked, 100 * (keyframes - 1));
-  EXPECT_LE(largest_keyframe, 1.1 * 4 * options.harris.per_cell);
+  EXPECT_LE(largest_keyframe, 1.1 * 4 * options.lk_features_per_region);
   EXPECT_GE(check.right, 0.95 * check.checked)
       << check.right << " of " << check.checked << ", worst " << check.worst_px;
 }

@@ -23,8 +23,11 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "lucas-kanade: the frames are divided by their blur of this sigma (0: the frames as "
           "they are)"),
       Number<O>(
+          "lk_features_per_region", [](O& o) -> int& { return o.tracking.lk_features_per_region; },
+          1, 10000, "", "lucas-kanade: corners a region holds at a key frame, followed ones first"),
+      Number<O>(
           "per_region", [](O& o) -> int& { return o.tracking.harris.per_cell; }, 1, 10000, "",
-          "region Harris: strongest corners per region (001: 200)"),
+          "region Harris: strongest corners per region (001: 200; matcher: templates)"),
       Number<O>(
           "min_median_flow_px", [](O& o) -> double& { return o.tracking.min_median_flow_px; }, 0.1,
           1000.0, "px", "a key frame when the median flow to the last one reaches this"),
