@@ -37,7 +37,7 @@ inline constexpr const char* kTemplateMatcher = "templates";
 inline constexpr const char* kLucasKanadeMatcher = "lucas-kanade";
 
 struct FeatureTrackerOptions {
-  // Lucas-Kanade since the fifteenth session: on the 8.4 m straight benchmark +0.026 % against
+  // Lucas-Kanade since the fifteenth session: on the 8.4 m straight benchmark -0.026 % against
   // -0.076 %, on the 1100-frame network 0.010 % against 0.943 % with its Ts at 90.8 and 90.1
   // degrees (templates: 92.7, 91.4), and it holds under noise σ 2-3 where templates lose the
   // run (docs/fisheye_mapping.md, "Following the features").
