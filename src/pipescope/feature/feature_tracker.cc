@@ -78,7 +78,8 @@ void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
                                   const std::vector<int>& detection_rows) {
   auto state = std::make_unique<KeyframeState>();
   state->frame_index = frame_index;
-  state->grey = grey.clone();
+  // Only the templates' guided search reads the key frame's image again.
+  if (options_.matcher != kLucasKanadeMatcher) state->grey = grey.clone();
   state->features = std::move(features);
   for (const TrackedFeature& feature : state->features) state->points.push_back(feature.pixel);
   if (options_.matcher == kLucasKanadeMatcher) {
@@ -109,7 +110,7 @@ void FeatureTracker::MakeKeyframe(const cv::Mat& grey, int frame_index,
   keyframe->features = state->features;
   last_ = std::move(state);
   span_start_inliers_ = 0;
-  if (options_.matcher == kLucasKanadeMatcher) StartFollowing(grey);
+  if (options_.matcher == kLucasKanadeMatcher) StartFollowing(grey, frame_index);
 }
 
 cv::Mat FeatureTracker::FollowedImage(const cv::Mat& grey) const {
@@ -118,17 +119,21 @@ cv::Mat FeatureTracker::FollowedImage(const cv::Mat& grey) const {
   return FlatFieldedGrey8(grey8, options_.lk_flat_field_sigma_px);
 }
 
-void FeatureTracker::StartFollowing(const cv::Mat& grey) {
-  const int window = options_.lk_window_px;
-  follow_pyramid_.clear();
-  cv::buildOpticalFlowPyramid(FollowedImage(grey), follow_pyramid_, cv::Size(window, window),
-                              options_.lk_pyramid_levels);
+void FeatureTracker::StartFollowing(const cv::Mat& grey, int frame_index) {
+  // A key frame that was itself followed into has its pyramid built already.
+  if (follow_pyramid_frame_ != frame_index) {
+    const int window = options_.lk_window_px;
+    follow_pyramid_.clear();
+    cv::buildOpticalFlowPyramid(FollowedImage(grey), follow_pyramid_, cv::Size(window, window),
+                                options_.lk_pyramid_levels);
+    follow_pyramid_frame_ = frame_index;
+  }
   follow_points_ = last_->points;
   follow_feature_.resize(follow_points_.size());
   for (std::size_t k = 0; k < follow_feature_.size(); ++k) follow_feature_[k] = static_cast<int>(k);
 }
 
-std::vector<FeatureMatch> FeatureTracker::FollowFeatures(const cv::Mat& grey,
+std::vector<FeatureMatch> FeatureTracker::FollowFeatures(const cv::Mat& grey, int frame_index,
                                                          std::vector<cv::Point2f>* points) {
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   std::vector<cv::Mat> pyramid;
@@ -151,6 +156,7 @@ std::vector<FeatureMatch> FeatureTracker::FollowFeatures(const cv::Mat& grey,
     kept_feature.push_back(follow_feature_[i]);
   }
   follow_pyramid_ = std::move(pyramid);
+  follow_pyramid_frame_ = frame_index;
   follow_points_ = kept;
   follow_feature_ = std::move(kept_feature);
   *points = std::move(kept);
@@ -183,7 +189,7 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   cv::Mat descriptors;
   std::vector<FeatureMatch> matches;
   if (follow) {
-    matches = FollowFeatures(grey, &points);
+    matches = FollowFeatures(grey, frame_index, &points);
   } else {
     points = Detect(grey);
     descriptors = ComputeTemplateDescriptors(grey, points, options_.descriptor);
@@ -285,21 +291,18 @@ TrackingStep FeatureTracker::Track(const cv::Mat& grey, int frame_index,
   // (lk_features_per_region): uncapped, 1686 features a key frame took the window adjustments
   // to three times their time.
   const RegionHarrisOptions& regions = options_.harris;
-  const int region_share = follow ? options_.lk_features_per_region : regions.per_cell;
   std::vector<int> region_count(regions.grid_rows * regions.grid_cols, 0);
   const auto region_of = [&](const cv::Point2f& pixel) {
-    const int row =
-        std::min(regions.grid_rows - 1, static_cast<int>(pixel.y) * regions.grid_rows / grey.rows);
-    const int col =
-        std::min(regions.grid_cols - 1, static_cast<int>(pixel.x) * regions.grid_cols / grey.cols);
-    return row * regions.grid_cols + col;
+    return RegionCell(regions, grey.size(), static_cast<int>(pixel.x), static_cast<int>(pixel.y));
   };
   if (follow) {
     for (const TrackedFeature& feature : features) ++region_count[region_of(feature.pixel)];
   }
   for (std::size_t j = 0; j < detections.size(); ++j) {
     if (!follow && used_j[j]) continue;
-    if (follow && region_count[region_of(detections[j])] >= region_share) continue;
+    if (follow && region_count[region_of(detections[j])] >= options_.lk_features_per_region) {
+      continue;
+    }
     bool duplicate = false;
     for (std::size_t k = first_compared; k < tracked_count && !duplicate; ++k) {
       const cv::Point2f d = features[k].pixel - detections[j];

@@ -136,7 +136,10 @@ class FeatureTracker {
 
   // Starts over: the next frame becomes a key frame without a link to the previous one (the
   // last step stays the motion prior).
-  void Reset() { last_.reset(); }
+  void Reset() {
+    last_.reset();
+    follow_pyramid_frame_ = -1;
+  }
 
   const BearingTable& bearings() const { return bearings_; }
   // The last key frame's template descriptors, one row per feature of its TrackedKeyframe (none
@@ -155,11 +158,12 @@ class FeatureTracker {
   std::vector<cv::Point2f> Detect(const cv::Mat& grey) const;
   // Follows the key frame's features into `grey` (kLucasKanadeMatcher): the matches
   // of last_->features (index_a) to `*points` (index_b), the pixels they were followed to.
-  std::vector<FeatureMatch> FollowFeatures(const cv::Mat& grey, std::vector<cv::Point2f>* points);
+  std::vector<FeatureMatch> FollowFeatures(const cv::Mat& grey, int frame_index,
+                                           std::vector<cv::Point2f>* points);
   // What Lucas-Kanade follows: `grey` flat-fielded (lk_flat_field_sigma_px), CV_8U.
   cv::Mat FollowedImage(const cv::Mat& grey) const;
   // Starts following `grey`'s key-frame features (last_) anew.
-  void StartFollowing(const cv::Mat& grey);
+  void StartFollowing(const cv::Mat& grey, int frame_index);
   bool Bearing(const cv::Point2f& pixel, Eigen::Vector3d* bearing) const;
   // Whether a frame `frames_since_keyframe` after the key frame, with this median flow to it,
   // ends the span by its flow: it reached min_median_flow_px, or the next frame's would pass
@@ -180,6 +184,7 @@ class FeatureTracker {
   // Lucas-Kanade: the previous frame's pyramid, and where each followed feature of last_ is
   // (its index in last_->features, its pixel in the previous frame).
   std::vector<cv::Mat> follow_pyramid_;
+  int follow_pyramid_frame_ = -1;  // the frame follow_pyramid_ was built from
   std::vector<int> follow_feature_;
   std::vector<cv::Point2f> follow_points_;
   std::optional<SphereRelativePose> last_motion_;  // the last key-frame step, a RANSAC prior

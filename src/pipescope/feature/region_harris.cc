@@ -95,6 +95,12 @@ cv::Point2f QuadraticPeakOffset(const cv::Mat& response, int x, int y) {
   return {static_cast<float>(dx), static_cast<float>(dy)};
 }
 
+int RegionCell(const RegionHarrisOptions& options, cv::Size size, int x, int y) {
+  const int row = std::min(options.grid_rows - 1, y * options.grid_rows / size.height);
+  const int col = std::min(options.grid_cols - 1, x * options.grid_cols / size.width);
+  return row * options.grid_cols + col;
+}
+
 std::vector<Keypoint> DetectRegionHarris(const cv::Mat& grey, const RegionHarrisOptions& options,
                                          const cv::Mat& mask) {
   const cv::Mat response = HarrisResponse(grey, options);
@@ -113,11 +119,9 @@ std::vector<Keypoint> DetectRegionHarris(const cv::Mat& grey, const RegionHarris
     const float* r = response.ptr<float>(y);
     const float* d = dilated.ptr<float>(y);
     const uchar* usable = mask.empty() ? nullptr : mask.ptr<uchar>(y);
-    const int cell_row = std::min(options.grid_rows - 1, y * options.grid_rows / response.rows);
     for (int x = border; x < response.cols - border; ++x) {
       if (r[x] <= floor || r[x] < d[x] || (usable && !usable[x])) continue;
-      const int cell_col = std::min(options.grid_cols - 1, x * options.grid_cols / response.cols);
-      cells[cell_row * options.grid_cols + cell_col].push_back(
+      cells[RegionCell(options, response.size(), x, y)].push_back(
           {cv::Point2f(static_cast<float>(x), static_cast<float>(y)), r[x]});
     }
   }

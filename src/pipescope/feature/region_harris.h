@@ -44,6 +44,9 @@ cv::Mat HarrisResponse(const cv::Mat& grey, const RegionHarrisOptions& options);
 // the offset leaves the pixel (|offset| > 1 in either axis).
 cv::Point2f QuadraticPeakOffset(const cv::Mat& response, int x, int y);
 
+// The grid cell of `options` (row-major index) that holds pixel (x, y) of an image of `size`.
+int RegionCell(const RegionHarrisOptions& options, cv::Size size, int x, int y);
+
 // The keypoints of a gain-corrected (distorted) image: per cell the strongest local maxima of
 // the cornerness over a nms_window_px window, strongest first within each cell. `mask`: CV_8U of
 // the image size, non-zero where corners may lie; may be empty.

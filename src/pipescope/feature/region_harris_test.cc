@@ -143,6 +143,23 @@ TEST(DetectRegionHarris, KeepsAtMostPerCellInEveryCellOfTheGrid) {
   EXPECT_GE(keypoints.size(), 3u * per_cell.size());
 }
 
+TEST(RegionCell, CutsTheImageIntoEqualCellsRowByRow) {
+  RegionHarrisOptions options;    // 6 rows x 8 columns
+  const cv::Size size(320, 240);  // cells of 40 x 40 pixels
+  EXPECT_EQ(RegionCell(options, size, 0, 0), 0);
+  EXPECT_EQ(RegionCell(options, size, 39, 39), 0);
+  EXPECT_EQ(RegionCell(options, size, 40, 0), 1);
+  EXPECT_EQ(RegionCell(options, size, 0, 40), 8);
+  EXPECT_EQ(RegionCell(options, size, 319, 239), 47);
+  // An odd size: pixel x lies in column floor(x * columns / width), and so for rows.
+  options.grid_rows = 2;
+  options.grid_cols = 2;
+  const cv::Size odd(5, 3);
+  EXPECT_EQ(RegionCell(options, odd, 2, 1), 0);
+  EXPECT_EQ(RegionCell(options, odd, 3, 1), 1);
+  EXPECT_EQ(RegionCell(options, odd, 4, 2), 3);
+}
+
 TEST(DetectRegionHarris, SubPixelPositionsFollowAShiftOfTheScene) {
   const cv::Point2d shift(0.4, -0.3);
   const cv::Mat first = BlobImage({240, 180}, {0, 0});
