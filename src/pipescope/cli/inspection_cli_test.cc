@@ -151,7 +151,8 @@ TEST_F(InspectionCli, LocateRefusesMapRunsAndSaysWhy) {
                    " --frames 24 --set layout=straight --set length_m=2 --set speed_m_s=0.075"
                    " --set white_card_count=1 -q");
   ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
-  WriteTextFileAtomically(Path("map.yaml"), "window_interval: 8\nmin_cluster_size: 3\n");
+  WriteTextFileAtomically(Path("map.yaml"),
+                          "window_interval: 8\nmin_window_keyframes: 8\nmin_cluster_size: 3\n");
   const CommandResult map = RunPipescope("map " + Path("network") + " --out " + Path("map") +
                                          " --config " + Path("map.yaml") + " --no-report -q");
   ASSERT_EQ(map.exit_status, 0) << map.output;

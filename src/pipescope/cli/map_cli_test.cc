@@ -59,7 +59,8 @@ DenseMapCylinder PieceCylinder(const nlohmann::json& report, const nlohmann::jso
 // halved with the image (640x480 against 001's 1280x960), so that every frame stays a key frame
 // as at full size.
 constexpr char kShortRunKeys[] =
-    "window_interval: 8\nmin_cluster_size: 3\nmin_median_flow_px: 5\nmax_median_flow_px: 7.5\n";
+    "window_interval: 8\nmin_window_keyframes: 8\nmin_cluster_size: 3\nmin_median_flow_px: "
+    "5\nmax_median_flow_px: 7.5\n";
 
 class MapCli : public testing::Test {
  protected:
@@ -134,8 +135,9 @@ TEST_F(MapCli, WritesTheRunDirectory) {
 // tested in pipeline_test, WindowConfirmation).
 TEST_F(MapCli, RejectedWindowsMakeTheRunUnreliable) {
   const std::string run = Path("rejected");
-  WriteTextFileAtomically(*dir_ / "reject.yaml",
-                          "window_interval: 8\nmin_cluster_size: 3\nmax_window_rms_px: 0\n");
+  WriteTextFileAtomically(
+      *dir_ / "reject.yaml",
+      "window_interval: 8\nmin_window_keyframes: 8\nmin_cluster_size: 3\nmax_window_rms_px: 0\n");
   const CommandResult result = RunPipescope("map " + Path("ds") + " --out " + run + " --config " +
                                             Path("reject.yaml") + " -q");
   ASSERT_EQ(result.exit_status, 0) << result.output;

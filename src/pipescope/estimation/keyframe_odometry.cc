@@ -60,7 +60,7 @@ void KeyframeOdometry::Add(TrackedKeyframe keyframe, const KeyframeSection& sect
     const int first =
         std::max({section.first_keyframe, segment_start_, k - options_.window_size + 1});
     // A shorter window (just after a reset) fits its cylinder to too few key frames.
-    if (k - first + 1 >= options_.window_interval) {
+    if (k - first + 1 >= options_.min_window_keyframes) {
       AdjustWindow(first, k, section.section, section.view_class == PipeViewClass::kStraight);
     }
   }

@@ -16,13 +16,20 @@ namespace pipescope {
 struct KeyframeOdometryOptions {
   StraightWindowOptions window;  // radius_m comes from the dataset
   // 001 runs the SBA every 50 key frames over the last 100. Here the chain of relative poses
-  // between windows drifts in scale far more than 001's did (our relative rotations are off by
-  // about a degree at 1 cm baselines), so the defaults adjust every 10 key frames over the
-  // last 50; 50 / 100 is a --config away (window_interval, window_size). On the first 200
-  // frames of the straight benchmark, 50 / 100 gave a 78.5 % distance error, 10 / 50 gave 15 %
-  // (docs/fisheye_mapping.md).
-  int window_interval = 10;
+  // between windows drifts in scale far more than 001's did (the templates' relative rotations
+  // are off by about a degree at 1 cm baselines), so the defaults adjust every 20 key frames
+  // over the last 50; 50 / 100 is a --config away (window_interval, window_size). On the first
+  // 200 frames of the straight benchmark, 50 / 100 gave a 78.5 % distance error, 10 / 50 gave
+  // 15 % (templates). With the features followed (lucas-kanade) 20 / 50 takes the windows' time
+  // down by 40 % and measured as well as 10 / 50 or better (straight −0.012 against −0.026 %,
+  // route A's first 2800 frames T1-T4 1.27 against 2.00 %); the templates measured better at
+  // 10 (docs/fisheye_mapping.md, Window schedule).
+  int window_interval = 20;
   int window_size = 50;
+  // A window of fewer key frames (a short section, or just after a tracking reset) fits its
+  // cylinder to too few of them and is not run (before the interval became 20 it was the
+  // interval, 10).
+  int min_window_keyframes = 10;
   // New points need this angle between their first and latest rays ...
   double min_triangulation_angle_deg = 1.5;
   // ... and a reprojection error below this in both key frames.

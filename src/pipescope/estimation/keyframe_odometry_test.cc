@@ -111,7 +111,9 @@ TEST_F(KeyframeOdometryTest, RecoversTheMetricPathFromTheRadius) {
     EXPECT_TRUE(window.cylinder);
     if (window.rejection.empty()) ++applied;
   }
-  EXPECT_GE(applied, 4);
+  // Every 20 key frames (window_interval), each one applied.
+  EXPECT_EQ(odometry.windows().size(), static_cast<std::size_t>(kCount / options_.window_interval));
+  EXPECT_EQ(applied, static_cast<int>(odometry.windows().size()));
   // The triangulated points lie on the wall of the true pipe.
   const Eigen::Isometry3d world_from_first = WobblingCamFromWorld(0, kStep).inverse();
   const std::vector<SparsePoint> points = odometry.Points();
@@ -125,10 +127,23 @@ TEST_F(KeyframeOdometryTest, RecoversTheMetricPathFromTheRadius) {
   EXPECT_LT(wall_errors[wall_errors.size() / 2], 0.001);
 }
 
+// The section's last key frame runs a window over it, unless it holds fewer than
+// min_window_keyframes.
+TEST_F(KeyframeOdometryTest, ASectionEndsWithAWindowWhenItIsLongEnough) {
+  options_.window_interval = 100000;
+  options_.min_window_keyframes = 12;
+  for (const int count : {11, 12}) {
+    KeyframeOdometry odometry(camera_, options_);
+    for (int k = 0; k < count; ++k) odometry.Add(Keyframe(k), Straight(k, count));
+    EXPECT_EQ(odometry.windows().size(), count >= 12 ? 1u : 0u) << count;
+  }
+}
+
 TEST_F(KeyframeOdometryTest, WithoutWindowsEachStepLengthComesFromTheRadius) {
   // No window adjustment: every step length is the scale that puts the step's two-view points
   // on the wall of a cylinder fitted to them (001 eq. 4-6; cylinder_scale.h), nothing else.
   options_.window_interval = 100000;
+  options_.min_window_keyframes = 100000;  // nor one at the section's end
   options_.fit_axis_per_step = true;
   constexpr int kCount = 40;
   KeyframeOdometry odometry(camera_, options_);

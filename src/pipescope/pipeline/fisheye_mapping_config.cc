@@ -81,6 +81,9 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "window_size", [](O& o) -> int& { return o.odometry.window_size; }, 3, 100000, "",
           "key frames in a window (001: 100)"),
       Number<O>(
+          "min_window_keyframes", [](O& o) -> int& { return o.odometry.min_window_keyframes; }, 3,
+          100000, "", "a shorter window (a short section, or just after a reset) is not run"),
+      Number<O>(
           "tau", [](O& o) -> double& { return o.odometry.window.tau; }, 0.0, 1e12, "",
           "weight of the cylinder term (001 eq. 2: 2.5e5)"),
       Flag<O>(

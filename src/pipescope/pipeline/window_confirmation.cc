@@ -76,7 +76,7 @@ std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWin
   }
   std::vector<std::string> reasons;
   if (straight == 0) {
-    if (longest_straight_section >= options.window_interval) {
+    if (longest_straight_section >= options.min_window_keyframes) {
       reasons.push_back("no window adjustment ran in a straight section of " +
                         std::to_string(longest_straight_section) +
                         " key frames: the scale rests on single steps");
@@ -105,7 +105,7 @@ std::vector<std::string> WindowConfirmationReasons(const FisheyeMappingResult& r
   WindowConfirmationOptions confirmation;
   confirmation.max_rejected_share = options.max_rejected_window_share;
   confirmation.max_rejected_section_share = options.max_rejected_section_window_share;
-  confirmation.window_interval = options.odometry.window_interval;
+  confirmation.min_window_keyframes = options.odometry.min_window_keyframes;
   return WindowConfirmationReasons(result.windows, longest_straight_section, confirmation);
 }
 

@@ -25,9 +25,9 @@ struct WindowConfirmationOptions {
   // `min_section_windows` of them (a few windows are too few to judge a share by).
   double max_rejected_section_share = 0.25;
   int min_section_windows = 4;
-  // A straight section of this many key frames holds a window (the odometry's window_interval);
-  // a shorter one has none and needs none.
-  int window_interval = 10;
+  // A straight section of this many key frames holds a window (the odometry's
+  // min_window_keyframes: its last key frame runs one); a shorter one has none and needs none.
+  int min_window_keyframes = 10;
 };
 
 // The straight windows of one section: how many, how many rejected and why, and the key frames
@@ -50,7 +50,7 @@ std::vector<std::string> WindowConfirmationReasons(const std::vector<OdometryWin
 
 // The same for a map run: its windows and its longest straight section, with the limits of
 // `options` (max_rejected_window_share, max_rejected_section_window_share, the odometry's
-// window_interval).
+// min_window_keyframes).
 std::vector<std::string> WindowConfirmationReasons(const FisheyeMappingResult& result,
                                                    const FisheyeMappingOptions& options);
 

@@ -93,7 +93,7 @@ TEST(WindowConfirmation, AMapRunCountsItsLongestStraightSection) {
                      {9, 40, PipeViewClass::kTIntersection},
                      {41, 49, PipeViewClass::kStraight}};
   FisheyeMappingOptions options;
-  options.odometry.window_interval = 10;
+  options.odometry.min_window_keyframes = 10;
   EXPECT_TRUE(WindowConfirmationReasons(result, options).empty());  // 9 key frames at most
   result.sections.push_back({50, 59, PipeViewClass::kStraight});
   EXPECT_EQ(WindowConfirmationReasons(result, options).size(), 1u);  // 10: one was due
