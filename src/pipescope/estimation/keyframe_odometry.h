@@ -22,8 +22,8 @@ struct KeyframeOdometryOptions {
   // 200 frames of the straight benchmark, 50 / 100 gave a 78.5 % distance error, 10 / 50 gave
   // 15 % (templates). With the features followed (lucas-kanade) 20 / 50 takes the windows' time
   // down by 40 % and measured as well as 10 / 50 or better (straight −0.012 against −0.026 %,
-  // route A's first 2800 frames T1-T4 1.27 against 2.00 %); the templates measured better at
-  // 10 (docs/fisheye_mapping.md, Window schedule).
+  // route A's first 2800 frames T1-T4 1.27 against 2.00 %), the templates about the same
+  // (docs/fisheye_mapping.md, Window schedule).
   int window_interval = 20;
   int window_size = 50;
   // A window of fewer key frames (a short section, or just after a tracking reset) fits its

@@ -52,10 +52,11 @@ struct FeatureTrackerOptions {
   double lk_flat_field_sigma_px = 8.0;
   // Lucas-Kanade: corners a region holds at a key frame, followed ones first (the templates take
   // harris.per_cell, 001's 200). Followed tracks live long: at 200 the window adjustments have
-  // twice the templates' observations, and the 8.4 m benchmark takes 146-159 s against their
-  // 87-95 s (ATE 3.3 mm against 7.8). 100 takes 87 s but gives up some accuracy (ATE 3.4 mm; the
-  // 1100-frame network 0.473 % against 0.010 % at 200, templates 0.943 %); every figure under
-  // noise and on the routes was measured at 200 (docs/fisheye_mapping.md).
+  // twice the templates' observations. With windows every 10 key frames the 8.4 m benchmark took
+  // 146-159 s against the templates' 87-95 s, and 100 a region 87 s at some accuracy (ATE 3.4
+  // against 3.3 mm; the 1100-frame network 0.473 % against 0.010 %); with windows every 20 (the
+  // default since) 200 takes 96-106 s. Every figure under noise and on the routes was measured
+  // at 200 (docs/fisheye_mapping.md).
   int lk_features_per_region = 200;
   RegionHarrisOptions harris = FisheyeRegionHarrisOptions();
   TemplateDescriptorOptions descriptor;
