@@ -113,6 +113,8 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
                      {"matches", edge.matches},
                      {"inliers", edge.inliers},
                      {"rms_deg", edge.rms_deg},
+                     {"runner_up_keyframe", edge.runner_up_keyframe},
+                     {"runner_up_inliers", edge.runner_up_inliers},
                      {"accepted", edge.accepted},
                      {"rejection", edge.rejection},
                      {"translation_m", Vector(edge.earlier_from_later.translation())}});

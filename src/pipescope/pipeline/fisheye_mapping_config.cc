@@ -228,6 +228,16 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           100.0, "m",
           "loop closure: the later pass's key frames tried against each candidate, this far apart"),
       Number<O>(
+          "loop_max_runner_up_share",
+          [](O& o) -> double& { return o.loop_closure.max_runner_up_share; }, 0.0, 1.0, "",
+          "loop closure: a candidate is refused when another place "
+          "(loop_ambiguity_separation_radii away) matches with this share of its best place's "
+          "inliers (1: never)"),
+      Number<O>(
+          "loop_ambiguity_separation_radii",
+          [](O& o) -> double& { return o.loop_closure.ambiguity_separation_radii; }, 0.0, 1000.0,
+          "radii", "loop closure: how far along the later pass another place must lie"),
+      Number<O>(
           "loop_t_step_rotation_factor",
           [](O& o) -> double& { return o.loop_closure.t_step_rotation_factor; }, 1.0, 1000.0, "",
           "loop closure: a step inside a T may turn this many times more than a straight one"),

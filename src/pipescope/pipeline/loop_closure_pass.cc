@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -9,6 +10,7 @@
 
 #include "pipescope/estimation/pass_consensus.h"
 #include "pipescope/estimation/pipe_network_plan.h"
+#include "pipescope/estimation/place_ambiguity.h"
 #include "pipescope/feature/descriptor_matching.h"
 #include "pipescope/feature/sift_description.h"
 #include "pipescope/geometry/bearing_pnp.h"
@@ -367,31 +369,57 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
   }
   const Eigen::Matrix<double, 6, 6> loop_information = IsotropicPoseInformation(
       options.loop_translation_sigma_m, options.loop_rotation_sigma_deg * kDegToRad);
-  for (const Candidate& candidate : candidates) {
-    LoopEdgeRecord best;
-    best.earlier_keyframe = candidate.earlier_keyframe;
-    best.rejection = "frame not read";
-    const auto earlier = views.find(candidate.earlier_keyframe);
-    for (const int later : samples_of_pass[candidate.later_pass]) {
-      const auto view = views.find(later);
-      if (earlier == views.end() || view == views.end()) continue;
-      const LoopEdgeRecord edge = MeasureEdge(candidate.earlier_keyframe, later, earlier->second,
-                                              view->second, input.radius_m, options);
-      if (best.rejection == "frame not read" || (edge.accepted && !best.accepted) ||
-          (edge.accepted == best.accepted && edge.inliers > best.inliers)) {
-        best = edge;
-      }
-    }
-    record.edges.push_back(best);
-  }
-  // Only edges that agree with each other along the two passes (a wall pattern repeating along
-  // the pipe gives confirmed edges metres apart).
   std::vector<double> path_along_pass(keyframe_count, 0.0);
   for (int k = 1; k < keyframe_count; ++k) {
     if (pass_of_keyframe[k] >= 0 && pass_of_keyframe[k] == pass_of_keyframe[k - 1]) {
       path_along_pass[k] = path_along_pass[k - 1] + (positions[k] - positions[k - 1]).norm();
     }
   }
+  const double ambiguity_separation_m = options.ambiguity_separation_radii * input.radius_m;
+  for (const Candidate& candidate : candidates) {
+    LoopEdgeRecord best;
+    best.earlier_keyframe = candidate.earlier_keyframe;
+    best.rejection = "frame not read";
+    std::vector<LoopEdgeRecord> confirmed;  // every place of the later pass that gave an edge
+    const auto earlier = views.find(candidate.earlier_keyframe);
+    for (const int later : samples_of_pass[candidate.later_pass]) {
+      const auto view = views.find(later);
+      if (earlier == views.end() || view == views.end()) continue;
+      const LoopEdgeRecord edge = MeasureEdge(candidate.earlier_keyframe, later, earlier->second,
+                                              view->second, input.radius_m, options);
+      if (edge.accepted) confirmed.push_back(edge);
+      if (best.rejection == "frame not read" || (edge.accepted && !best.accepted) ||
+          (edge.accepted == best.accepted && edge.inliers > best.inliers)) {
+        best = edge;
+      }
+    }
+    // The best place must stand out from every place far enough from it to be another one.
+    std::vector<PlaceMatch> places;
+    int best_place = -1;
+    for (const LoopEdgeRecord& edge : confirmed) {
+      if (best.accepted && edge.later_keyframe == best.later_keyframe) {
+        best_place = static_cast<int>(places.size());
+      }
+      places.push_back({path_along_pass[edge.later_keyframe], edge.inliers});
+    }
+    const int runner_up =
+        best_place < 0 ? -1 : RunnerUpPlace(places, best_place, ambiguity_separation_m);
+    if (runner_up >= 0) {
+      best.runner_up_keyframe = confirmed[runner_up].later_keyframe;
+      best.runner_up_inliers = confirmed[runner_up].inliers;
+      if (best.runner_up_inliers >= options.max_runner_up_share * best.inliers) {
+        char apart[32];
+        std::snprintf(apart, sizeof(apart), "%.2f",
+                      std::abs(places[runner_up].path_m - places[best_place].path_m));
+        best.accepted = false;
+        best.rejection = std::string("another place ") + apart +
+                         " m along the later pass matches about as well (a repeated pattern)";
+      }
+    }
+    record.edges.push_back(best);
+  }
+  // Only edges that agree with each other along the two passes (a wall pattern repeating along
+  // the pipe gives confirmed edges metres apart).
   for (LoopEdgeRecord& edge : record.edges) edge.path_m = path_along_pass[edge.earlier_keyframe];
   std::map<std::pair<int, int>, std::vector<int>> accepted_of_passes;
   for (int e = 0; e < static_cast<int>(record.edges.size()); ++e) {

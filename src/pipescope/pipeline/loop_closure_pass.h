@@ -17,8 +17,9 @@ namespace pipescope {
 // route_start, pipeline/pipe_plan_yaml.h) and the turns the run took name the section of every
 // straight pass; key frames spread along the earlier of two passes of one section are each
 // matched against the later pass's key frames (SIFT at their tracked corners), the best placed
-// against the earlier's map points (PnP with RANSAC on the bearings), and the edges that agree
-// along the passes kept (estimation/pass_consensus.h); a pose
+// against the earlier's map points (PnP with RANSAC on the bearings) if no other place matches
+// about as well (estimation/place_ambiguity.h), and the edges that agree along the passes kept
+// (estimation/pass_consensus.h); a pose
 // graph over every key frame (odometry edges and the accepted loop edges, Ceres) moves the key
 // frames, and their points and junctions move with them.
 struct LoopClosurePassOptions {
@@ -37,6 +38,14 @@ struct LoopClosurePassOptions {
   // Each candidate's earlier key frame is matched against the later pass's key frames this far
   // apart along its path, and the one with the most inliers is kept.
   double search_step_m = 0.1;
+  // A place that matches about as well as the best one farther along the later pass than
+  // `ambiguity_separation_radii` radii (with `max_runner_up_share` of its inliers or more) makes
+  // the candidate ambiguous, and it is refused: on a wall that repeats (painted rings, joints) the
+  // best match is as often the wrong repeat as the right place. On route B's default seed the
+  // consensus of five edges one repeat (1 m) off outvoted three right ones
+  // (docs/fisheye_mapping.md).
+  double ambiguity_separation_radii = 2.5;
+  double max_runner_up_share = 0.8;
   double max_angle_deg = 0.5;  // PnP: a bearing farther off its point is an outlier
   int min_inliers = 20;
   // Of two passes' confirmed edges, at least this many must agree on where the passes overlap
@@ -68,6 +77,10 @@ struct LoopEdgeRecord {
   int matches = 0;
   int inliers = 0;
   double rms_deg = 0.0;  // PnP's inliers: bearing against the earlier key frame's point
+  // The best other place along the later pass (ambiguity_separation_radii from this one): its
+  // key frame (-1: none matched) and inliers.
+  int runner_up_keyframe = -1;
+  int runner_up_inliers = 0;
   bool accepted = false;
   std::string rejection;
   Eigen::Isometry3d earlier_from_later = Eigen::Isometry3d::Identity();
