@@ -219,7 +219,7 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
       Flag<O>(
           "loop_closure", [](O& o) -> bool& { return o.loop_closure.enabled; },
           "close loops where the plan (scene.yaml with route_start) says a section was driven "
-          "twice (off: its edges can pair places a wall pattern apart)"),
+          "twice"),
       Number<O>(
           "loop_pairs", [](O& o) -> int& { return o.loop_closure.max_pairs; }, 1, 1000, "",
           "loop closure: at most this many key frame pairs per two passes of a section"),

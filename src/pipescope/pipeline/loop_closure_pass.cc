@@ -278,9 +278,7 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
       pass_of_keyframe[k] = static_cast<int>(at - order.straight.begin());
   }
   if (!options.enabled) {
-    record.why_not =
-        "loop_closure is off (the revisits are still measured; docs/fisheye_mapping.md says why "
-        "it is off by default)";
+    record.why_not = "loop_closure is off (the revisits are still measured)";
     return record;
   }
   // Candidates: for every two passes of one section driven the same way, key frames spread
