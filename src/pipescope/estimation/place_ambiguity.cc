@@ -5,16 +5,21 @@
 
 namespace pipescope {
 
-int RunnerUpPlace(const std::vector<PlaceMatch>& places, int best, double separation_m) {
+PlaceJudgement JudgeBestPlace(const std::vector<PlaceMatch>& places, int best, double separation_m,
+                              double max_runner_up_share) {
   if (best < 0 || best >= static_cast<int>(places.size())) {
-    throw std::invalid_argument("RunnerUpPlace: best is not one of the places");
+    throw std::invalid_argument("JudgeBestPlace: best is not one of the places");
   }
-  int runner_up = -1;
+  PlaceJudgement judgement;
   for (int i = 0; i < static_cast<int>(places.size()); ++i) {
     if (std::abs(places[i].path_m - places[best].path_m) < separation_m) continue;
-    if (runner_up < 0 || places[i].inliers > places[runner_up].inliers) runner_up = i;
+    if (judgement.runner_up < 0 || places[i].inliers > places[judgement.runner_up].inliers) {
+      judgement.runner_up = i;
+    }
   }
-  return runner_up;
+  judgement.ambiguous = judgement.runner_up >= 0 && places[judgement.runner_up].inliers >=
+                                                        max_runner_up_share * places[best].inliers;
+  return judgement;
 }
 
 }  // namespace pipescope

@@ -378,37 +378,39 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     LoopEdgeRecord best;
     best.earlier_keyframe = candidate.earlier_keyframe;
     best.rejection = "frame not read";
-    std::vector<LoopEdgeRecord> confirmed;  // every place of the later pass that gave an edge
+    // Every place of the later pass that gave an edge, and its key frame.
+    std::vector<PlaceMatch> places;
+    std::vector<int> place_keyframes;
     const auto earlier = views.find(candidate.earlier_keyframe);
     for (const int later : samples_of_pass[candidate.later_pass]) {
       const auto view = views.find(later);
       if (earlier == views.end() || view == views.end()) continue;
       const LoopEdgeRecord edge = MeasureEdge(candidate.earlier_keyframe, later, earlier->second,
                                               view->second, input.radius_m, options);
-      if (edge.accepted) confirmed.push_back(edge);
+      if (edge.accepted) {
+        places.push_back({path_along_pass[later], edge.inliers});
+        place_keyframes.push_back(later);
+      }
       if (best.rejection == "frame not read" || (edge.accepted && !best.accepted) ||
           (edge.accepted == best.accepted && edge.inliers > best.inliers)) {
         best = edge;
       }
     }
     // The best place must stand out from every place far enough from it to be another one.
-    std::vector<PlaceMatch> places;
-    int best_place = -1;
-    for (const LoopEdgeRecord& edge : confirmed) {
-      if (best.accepted && edge.later_keyframe == best.later_keyframe) {
-        best_place = static_cast<int>(places.size());
+    if (best.accepted) {
+      const int best_place = static_cast<int>(
+          std::find(place_keyframes.begin(), place_keyframes.end(), best.later_keyframe) -
+          place_keyframes.begin());
+      const PlaceJudgement judgement =
+          JudgeBestPlace(places, best_place, ambiguity_separation_m, options.max_runner_up_share);
+      if (judgement.runner_up >= 0) {
+        best.runner_up_keyframe = place_keyframes[judgement.runner_up];
+        best.runner_up_inliers = places[judgement.runner_up].inliers;
       }
-      places.push_back({path_along_pass[edge.later_keyframe], edge.inliers});
-    }
-    const int runner_up =
-        best_place < 0 ? -1 : RunnerUpPlace(places, best_place, ambiguity_separation_m);
-    if (runner_up >= 0) {
-      best.runner_up_keyframe = confirmed[runner_up].later_keyframe;
-      best.runner_up_inliers = confirmed[runner_up].inliers;
-      if (best.runner_up_inliers >= options.max_runner_up_share * best.inliers) {
+      if (judgement.ambiguous) {
         char apart[32];
         std::snprintf(apart, sizeof(apart), "%.2f",
-                      std::abs(places[runner_up].path_m - places[best_place].path_m));
+                      std::abs(places[judgement.runner_up].path_m - places[best_place].path_m));
         best.accepted = false;
         best.rejection = std::string("another place ") + apart +
                          " m along the later pass matches about as well (a repeated pattern)";
