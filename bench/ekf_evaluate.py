@@ -64,7 +64,8 @@ def main():
     true_distance = arc_of(matched[-1], samples) - arc_of(matched[0], samples)
     est_distance = report["distance_along_centreline_m"]
     true_bend = sum(s.get("angle_deg", 0.0) for s in scene["sections"] if s["type"] == "bend")
-    a, b = report["sections"][0]["axis"], report["sections"][-1]["axis"]
+    a = report["sections"][0]["axis"]
+    b = report["sections"][-1].get("end_axis", report["sections"][-1]["axis"])
     est_bend = math.degrees(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b))))))
     radius = scene["radius"]
     radius_errors = [100.0 * (s["radius_m"] - radius) / radius for s in report["sections"]]

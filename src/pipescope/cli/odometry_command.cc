@@ -196,12 +196,15 @@ nlohmann::json EkfSectionsJson(const EkfVoResult& result) {
     const Eigen::Vector3d& start = section.geometry.start;
     const Eigen::Vector3d& axis = section.geometry.axis;
     const double length = section.end_arc_m - section.start_arc_m;
-    const Eigen::Vector3d centre = start + 0.5 * length * axis;
+    const Eigen::Vector3d centre = section.geometry.CentrelinePoint(0.5 * length);
+    const Eigen::Vector3d end_axis = section.geometry.TangentAt(length);
     sections.push_back({{"index", i},
                         {"centre_m", {centre.x(), centre.y(), centre.z()}},
                         {"start_m", {start.x(), start.y(), start.z()}},
                         {"axis", {axis.x(), axis.y(), axis.z()}},
                         {"radius_m", section.geometry.Radius()},
+                        {"curvature_per_m", section.geometry.curvature.norm()},
+                        {"end_axis", {end_axis.x(), end_axis.y(), end_axis.z()}},
                         {"start_along_m", section.start_arc_m},
                         {"end_along_m", section.end_arc_m},
                         {"first_frame", section.first_frame},
@@ -260,19 +263,24 @@ constexpr double kEkfMaxUnobservedExcursion = 0.02;
 // on weak, noisy wall texture 10.2 (a run 6.2 % off), on frames of plain noise 18.5 (65 % off);
 // the runs that held (wall cameras, eleven tube-bend runs) stayed within 0.30 (docs/conditions.md).
 constexpr double kEkfMaxMedianNis = 4.0;
-// Turning of the chain (the sum of the angles between consecutive sections) above which the run's
-// positions are unconfirmed: a chain of straight sections only approximates a bend, and nothing
-// in the filter checks the angle it turned. On simulated bends that angle came out 2-10 % short
+// Turning of the chain (the bending sections' own turns and the angles between consecutive
+// sections) above which the run's positions are unconfirmed: nothing in the filter checks the
+// angle it turned. With straight sections only it came out 2-10 % short on simulated bends
 // (docs/ekf.md); 10 % of 10 degrees moves the end of a run by at most 1.7 % of the path after the
 // bend, so below this no turn error can reach the 2 % a reliable run promises.
 constexpr double kEkfMaxUnconfirmedTurnDeg = 10.0;
 
 double ChainTurnDeg(const std::vector<EkfSectionRecord>& sections) {
   double turn = 0.0;
-  for (std::size_t i = 1; i < sections.size(); ++i) {
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const TubeSection& section = sections[i].geometry;
+    const double length = sections[i].end_arc_m - sections[i].start_arc_m;
+    // A bending section turns by its curvature times its length.
+    turn += section.curvature.norm() * length;
+    if (i + 1 == sections.size()) break;
     // An axis is a line: a section started on the way back of an out-and-back run points back
     // along the same tube, which is no turn.
-    const double cosine = std::abs(sections[i - 1].geometry.axis.dot(sections[i].geometry.axis));
+    const double cosine = std::abs(section.TangentAt(length).dot(sections[i + 1].geometry.axis));
     turn += std::acos(std::min(cosine, 1.0));
   }
   return turn * 180.0 / M_PI;
@@ -412,10 +420,10 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   const double turn_deg = ChainTurnDeg(result.sections);
   if (turn_deg > kEkfMaxUnconfirmedTurnDeg) {
     position_reasons.push_back(fmt::format(
-        "the sections turn {:.0f} deg in all: a chain of straight sections only approximates a "
-        "bend, and the filter cannot check the angle it turned (on simulated bends it came out "
-        "2-10 % short, docs/ekf.md), so the positions beyond the bend and straight-line "
-        "distances across it are unconfirmed; the distances along the centreline are not affected",
+        "the sections turn {:.0f} deg in all: the filter cannot check the angle it turned (on "
+        "simulated bends it came out 0.1-4 deg off, 16 deg where the bend was in view from the "
+        "first frame, docs/ekf.md), so the positions beyond the bend and straight-line distances "
+        "across it are unconfirmed; the distances along the centreline are not affected",
         turn_deg));
   }
   run.SetQuality(states, model_reasons, RunQualityLimits{}, position_reasons);

@@ -13,9 +13,13 @@
 namespace pipescope {
 namespace {
 
+// The most a new section inherits of a bending section's turn ahead of the camera
+// (MaybeStartSection).
+constexpr double kMaxInheritedTurnRad = 2.0 * M_PI / 180.0;
+
 // Local perturbations the observation depends on: the current position (3) and rotation (3), the
-// previous position (3) and rotation (3), and one section (5).
-constexpr int kLocalSize = 17;
+// previous position (3) and rotation (3), and one section (7).
+constexpr int kLocalSize = 19;
 using Jet = ceres::Jet<double, kLocalSize>;
 
 Eigen::Quaterniond ExpRotation(const Eigen::Vector3d& rotation_vector) {
@@ -87,6 +91,8 @@ TubularEkf::TubularEkf(const Camera& camera, const Eigen::Isometry3d& world_from
   // Without a known radius the scale is a gauge too: hold log rho.
   const double radius_sigma = options.radius_prior_sigma > 0.0 ? options.radius_prior_sigma : 1e-9;
   covariance_(s + 4, s + 4) = radius_sigma * radius_sigma;
+  const double curvature_sigma = options.curvature_sigma_radii / radius;
+  for (int i = 5; i < 7; ++i) covariance_(s + i, s + i) = curvature_sigma * curvature_sigma;
 }
 
 Eigen::Isometry3d TubularEkf::WorldFromCam() const {
@@ -158,7 +164,7 @@ int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin, const Eigen::Vector3
   int first = 0;
   for (int i = count - 1; i > 0; --i) {
     const TubeSection& section = sections_[i].geometry;
-    if (section.AxialCoordinate(origin) >= section.AxialCoordinate(junction(i))) {
+    if (section.ArcCoordinate(origin) >= section.ArcCoordinate(junction(i))) {
       first = i - 1;
       break;
     }
@@ -166,15 +172,15 @@ int TubularEkf::SectionOfRay(const Eigen::Vector3d& origin, const Eigen::Vector3
   for (int i = first; i < count; ++i) {
     const TubeSection& section = sections_[i].geometry;
     double alpha = 0.0;
-    if (!IntersectRayWithCylinder<double>(origin, direction, section.start, section.axis,
-                                          section.Radius(), &alpha)) {
+    if (!IntersectRayWithTubeSection<double>(origin, direction, section.start, section.axis,
+                                             section.curvature, section.Radius(), &alpha)) {
       continue;
     }
     const Eigen::Vector3d point = origin + alpha * direction;
-    const double along = section.AxialCoordinate(point);
-    if (i > 0 && along < section.AxialCoordinate(junction(i))) continue;
-    if (i + 1 < count && along > section.AxialCoordinate(junction(i + 1))) continue;
-    const double range = std::abs(section.axis.dot(point - origin));
+    const double along = section.ArcCoordinate(point);
+    if (i > 0 && along < section.ArcCoordinate(junction(i))) continue;
+    if (i + 1 < count && along > section.ArcCoordinate(junction(i + 1))) continue;
+    const double range = std::abs(along - section.ArcCoordinate(origin));
     if (range > options_.max_range_radii * section.Radius()) return -1;
     if (range_out != nullptr) *range_out = range;
     return i;
@@ -211,9 +217,13 @@ bool TubularEkf::PredictPixel(const Eigen::Vector3d& previous_bearing, Eigen::Ve
   Vec3 axis = section.axis.cast<Jet>() + basis.cast<Jet>() * Eigen::Matrix<Jet, 2, 1>(e[14], e[15]);
   axis /= sqrt(axis.squaredNorm());
   const Jet radius = exp(Jet(section.log_radius) + e[16]);
+  const Vec3 curvature =
+      section.curvature.cast<Jet>() + basis.cast<Jet>() * Eigen::Matrix<Jet, 2, 1>(e[17], e[18]);
   Jet alpha;
-  // 004 eq. 8: the wall point of the previous frame's ray.
-  if (!IntersectRayWithCylinder<Jet>(previous_position, ray, start, axis, radius, &alpha)) {
+  // 004 eq. 8: the wall point of the previous frame's ray (on a torus segment where the section
+  // bends).
+  if (!IntersectRayWithTubeSection<Jet>(previous_position, ray, start, axis, curvature, radius,
+                                        &alpha)) {
     return false;
   }
   const Vec3 wall_point = previous_position + alpha * ray;
@@ -243,7 +253,8 @@ bool TubularEkf::PredictPixel(const Eigen::Vector3d& previous_bearing, Eigen::Ve
   jacobian->block<2, 3>(0, kPreviousRotation) = local.block<2, 3>(0, 9);
   const int offset = StateOffsetOfSection(section_index);
   // A frozen section is fixed geometry: it constrains the camera only.
-  if (offset >= 0) jacobian->block<2, kSectionSize>(0, offset) = local.block<2, 5>(0, 12);
+  if (offset >= 0)
+    jacobian->block<2, kSectionSize>(0, offset) = local.block<2, kSectionSize>(0, 12);
   return true;
 }
 
@@ -262,6 +273,8 @@ void TubularEkf::Inject(const Eigen::VectorXd& delta) {
     section.start += basis * delta.segment<2>(offset);
     section.axis = (section.axis + basis * delta.segment<2>(offset + 2)).normalized();
     section.log_radius += delta[offset + 4];
+    section.curvature += basis * delta.segment<2>(offset + 5);
+    section.curvature -= section.curvature.dot(section.axis) * section.axis;
     // Turn the basis with the axis (the smallest rotation): project and re-orthonormalise.
     basis.col(0) = (basis.col(0) - basis.col(0).dot(section.axis) * section.axis).normalized();
     basis.col(1) = section.axis.cross(basis.col(0));
@@ -397,8 +410,8 @@ void TubularEkf::MeasureTrackDrift(const std::vector<TubularEkfMatch>& matches,
         continue;
       }
       drifts.push_back((pixel - match.pixel).norm());
-      track_drifts_.emplace_back(
-          sections_.back().geometry.AxialCoordinate(anchor->second.wall_point), drifts.back());
+      track_drifts_.emplace_back(sections_.back().geometry.ArcCoordinate(anchor->second.wall_point),
+                                 drifts.back());
       continue;
     }
     // A new track: its wall point from the previous frame's (now updated) pose.
@@ -407,8 +420,9 @@ void TubularEkf::MeasureTrackDrift(const std::vector<TubularEkfMatch>& matches,
     if (section < 0) continue;
     const TubeSection& geometry = sections_[section].geometry;
     double alpha = 0.0;
-    if (!IntersectRayWithCylinder<double>(previous_position_, direction, geometry.start,
-                                          geometry.axis, geometry.Radius(), &alpha)) {
+    if (!IntersectRayWithTubeSection<double>(previous_position_, direction, geometry.start,
+                                             geometry.axis, geometry.curvature, geometry.Radius(),
+                                             &alpha)) {
       continue;
     }
     // Only the newest section's wall points test it: the chain behind it is settled.
@@ -430,12 +444,12 @@ bool TubularEkf::MaybeStartSection(const TubularEkfUpdate& update) {
   unexplained_run_ =
       gated_fraction > options_.spawn_gated_fraction || drifting ? unexplained_run_ + 1 : 0;
   const TubeSection& current = sections_.back().geometry;
-  const double travel = velocity_.dot(current.axis) >= 0.0 ? 1.0 : -1.0;
+  const double here = current.ArcCoordinate(position_);
+  const double travel = velocity_.dot(current.TangentAt(here)) >= 0.0 ? 1.0 : -1.0;
   if (unexplained_run_ < options_.spawn_frames) return false;
   // The new section starts ahead of the camera, where the features that misfit lie; the
   // current one must keep a useful length.
-  double junction = current.AxialCoordinate(position_) +
-                    travel * options_.spawn_lookahead_radii * current.Radius();
+  double ahead = options_.spawn_lookahead_radii * current.Radius();
   if (drifting) {
     std::vector<double> where;
     for (const auto& [along, drift] : track_drifts_) {
@@ -445,10 +459,16 @@ bool TubularEkf::MaybeStartSection(const TubularEkfUpdate& update) {
       // The tenth of the drifting wall points nearest the camera along the travel.
       std::sort(where.begin(), where.end(),
                 [&](double a, double b) { return travel * a < travel * b; });
-      const double onset = where[where.size() / 10];
-      if (travel * onset > travel * junction) junction = onset;
+      ahead = std::max(ahead, travel * (where[where.size() / 10] - here));
     }
   }
+  // The new section leaves the current one along its tangent at the junction. After a bending
+  // section the tube has changed between the camera and the misfitting features (the misfit
+  // grows with the square of the distance past the change), so a junction placed there would
+  // pass on the bend's further turn: it lies at most kMaxInheritedTurnRad of turn ahead.
+  const double curvature = current.curvature.norm();
+  if (curvature > 0.0) ahead = std::min(ahead, kMaxInheritedTurnRad / curvature);
+  const double junction = here + travel * ahead;
   if (travel * junction < options_.min_section_length_radii * current.Radius()) return false;
   std::ostringstream reason;
   reason.precision(3);
@@ -468,9 +488,11 @@ void TubularEkf::StartSection(double junction, double travel, const std::string&
   // The new section points the way the camera travels, so a wall point behind its start
   // (negative axial coordinate) belongs to the sections before it.
   TubularEkfSection next;
-  next.geometry.axis = travel * current.axis;
+  next.geometry.axis = travel * current.TangentAt(junction);
+  // Straight until the features bend it: a section is started where the tube changed, where a
+  // bend starts or ends.
   const std::size_t count = sections_.size();
-  if (options_.extrapolate_turn && count >= 2) {
+  if (options_.extrapolate_turn && count >= 2 && !current.Curved()) {
     // Constant curvature: the turn from section count-2 to count-1 over the distance between
     // their starts, applied over the distance from the current start to the new junction.
     const TubeSection& before = sections_[count - 2].geometry;
@@ -486,7 +508,7 @@ void TubularEkf::StartSection(double junction, double travel, const std::string&
   // The dataset's radius, the same prior as the first section's: a pipe keeps its radius, and a
   // section estimated from the one before would pass a misfit down the chain.
   next.geometry.log_radius = prior_log_radius_;
-  next.geometry.start = current.start + junction * current.axis;
+  next.geometry.start = current.CentrelinePoint(junction);
   next.first_frame = updates_;
   next.reason = reason;
   next.basis = OrthogonalBasis(next.geometry.axis);
@@ -502,6 +524,8 @@ void TubularEkf::StartSection(double junction, double travel, const std::string&
         options_.new_section_axis_sigma_rad * options_.new_section_axis_sigma_rad;
   }
   grown(n + 4, n + 4) = options_.new_section_radius_sigma * options_.new_section_radius_sigma;
+  const double curvature_sigma = options_.curvature_sigma_radii / radius;
+  for (int i = 5; i < 7; ++i) grown(n + i, n + i) = curvature_sigma * curvature_sigma;
   covariance_ = std::move(grown);
   while (static_cast<int>(sections_.size()) - first_active_ > options_.max_active_sections) {
     FreezeOldestActiveSection();

@@ -16,9 +16,11 @@ namespace pipescope {
 // (eq. 6) and features back-projected onto the current section and re-projected into the next
 // frame (eq. 7-9). Beyond 004:
 // - Error-state form: orientations are perturbed on the right (q = q^ (x) Exp(dtheta)), a
-//   section by 5 numbers (its start across the axis: 2, its axis: 2, log radius: 1), so the
-//   filter carries no direction it cannot observe (a cylinder slides along and turns about its
-//   own axis).
+//   section by 7 numbers (its start across the axis: 2, its axis: 2, log radius: 1, its
+//   curvature across the axis: 2), so the filter carries no direction a straight cylinder
+//   cannot show (it slides along and turns about its own axis).
+// - A section may bend: a torus segment whose curvature is estimated (0: 004's cylinder), so a
+//   bend is one section, not a chain of straight ones whose misfit pulls its angle short.
 // - The previous frame's pose is cloned into the state before each prediction, so the
 //   back-projection of eq. 9 uses frame k's estimate with its correlation to frame k+1.
 // - Every camera model through Unproject/Project (004 is pinhole only).
@@ -82,20 +84,25 @@ struct TubularEkfOptions {
   int spawn_frames = 3;
   double min_section_length_radii = 1.0;
   double spawn_lookahead_radii = 2.0;
-  // A new section's axis first continues the turn from the section before the current one to
-  // the current one (scaled by their lengths), instead of the current axis: in a bend the
-  // filter then corrects a guess centred on the curve rather than lagging behind it.
+  // After a straight section, a new section's axis first continues the turn from the section
+  // before the current one to the current one (scaled by their lengths), instead of the current
+  // axis: in a bend the filter then corrects a guess centred on the curve rather than lagging
+  // behind it. (After a bending section it leaves along its tangent.)
   bool extrapolate_turn = true;
   // A new section's initial uncertainty: its start across the axis (radii), its axis direction,
   // its relative radius about the radius given at the start (the dataset's: a pipe keeps its
   // radius). The radius is estimated with that prior; left freer (0.05), the straight sections
   // fitted to a bend come out narrow (its outer wall ahead closes in on their axes), and since
   // the radius sets the scale, the distance through the bend short: 0.5-6.9 % on tube-bend's
-  // nine bend runs (docs/ekf.md). (Holding the start to the junction, 0.002 radii, turns bends further but
-  // shortens the distance through them: docs/ekf.md.)
+  // nine bend runs (docs/ekf.md). (Holding the start to the junction, 0.002 radii, turns bends
+  // further but shortens the distance through them: docs/ekf.md.)
   double new_section_offset_sigma_radii = 0.05;
   double new_section_axis_sigma_rad = 0.15;
   double new_section_radius_sigma = 0.01;
+  // Prior uncertainty of each section's curvature (times the radius: one over the bend's radius
+  // in radii) about 0: every section starts straight and may bend as a torus segment. 0 =
+  // straight sections only (004).
+  double curvature_sigma_radii = 0.3;
   // Sections kept in the state; older ones are frozen (dropped from the state with their last
   // estimate) so the filter's size stays bounded however long the tube.
   int max_active_sections = 5;
@@ -179,7 +186,7 @@ class TubularEkf {
   static constexpr int kPreviousPosition = 12;
   static constexpr int kPreviousRotation = 15;
   static constexpr int kCameraSize = 18;
-  static constexpr int kSectionSize = 5;
+  static constexpr int kSectionSize = 7;
 
  private:
   // The nominal state, saved and restored by the iterated update.
@@ -192,7 +199,7 @@ class TubularEkf {
   void RestoreNominal(const Nominal& nominal);
   // The section a previous-frame feature's wall point lies on: the newest whose start is behind
   // it. -1 when the ray meets no wall or the point lies beyond the range.
-  // `range` receives the wall point's distance ahead along the section's axis.
+  // `range` receives the wall point's distance ahead along the section's centreline.
   int SectionOfRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                    double* range = nullptr) const;
   int StateOffsetOfSection(int section) const;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 namespace pipescope {
@@ -65,15 +66,22 @@ TEST(TubularEkf, PredictionFollowsConstantVelocityInClosedForm) {
               std::pow(4 * dt * sigma_v, 2) + a * a * dt * dt * (1 + 4 + 9 + 16) + 1e-12, 1e-12);
 }
 
-TEST(TubularEkf, ObservationJacobianMatchesFiniteDifferences) {
+// Straight (curvature exactly 0, where the torus' derivatives must still come out) and bending
+// (a bend of 4 radii).
+class TubularEkfJacobian : public ::testing::TestWithParam<double> {};
+
+TEST_P(TubularEkfJacobian, ObservationJacobianMatchesFiniteDifferences) {
   const Camera camera = ForwardCamera();
   TubularEkf filter(camera, Eigen::Isometry3d::Identity(), Eigen::Vector3d::UnitZ(), 0.1, {});
   // A state away from every special value: moving, turning, the section tilted and offset.
   Eigen::VectorXd delta = Eigen::VectorXd::Zero(filter.StateSize());
   delta.segment<3>(TubularEkf::kVelocity) << 0.004, -0.003, 0.05;
   delta.segment<3>(TubularEkf::kAngularVelocity) << 0.05, -0.08, 0.1;
-  delta.segment<5>(TubularEkf::kCameraSize) << 0.01, -0.006, 0.03, -0.02, 0.05;
+  const double curvature = GetParam();
+  delta.segment<7>(TubularEkf::kCameraSize) << 0.01, -0.006, 0.03, -0.02, 0.05, 0.6 * curvature,
+      -0.8 * curvature;
   filter.Inject(delta);
+  ASSERT_NEAR(filter.Sections()[0].geometry.curvature.norm(), curvature, 0.01);
   filter.Predict(1.0 / 15.0);
   const int n = filter.StateSize();
   int checked = 0;
@@ -104,6 +112,8 @@ TEST(TubularEkf, ObservationJacobianMatchesFiniteDifferences) {
   }
   EXPECT_GE(checked, 10);
 }
+
+INSTANTIATE_TEST_SUITE_P(StraightAndBending, TubularEkfJacobian, ::testing::Values(0.0, 2.5));
 
 TEST(TubularEkf, FarFeaturesCountLessWithTheSquareOfTheirRange) {
   const Camera camera = ForwardCamera();
@@ -243,7 +253,10 @@ TEST(TubularEkf, RecoversTheAxisAndTheCameraPlaceInAStraightTube) {
   const TubeSection& estimate = filter.Sections().front().geometry;
   const double axis_error_deg =
       std::acos(std::min(1.0, std::abs(estimate.axis.dot(truth.axis)))) * 180.0 / M_PI;
-  EXPECT_LT(axis_error_deg, 0.3);
+  // Measured: 0.52 degrees, the section bending by 0.023 / m (a bend radius of 435 radii) over
+  // the 0.5 m driven; 0.3 bounded it while sections could not bend.
+  EXPECT_LT(axis_error_deg, 0.6);
+  EXPECT_LT(estimate.curvature.norm() * radius, 0.005) << "a straight tube does not bend";
   EXPECT_LT(estimate.DistanceFromAxis(Eigen::Vector3d::Zero()), 0.002);
   EXPECT_NEAR(estimate.Radius(), radius, 0.002);
   const Eigen::Vector3d travelled = filter.WorldFromCam().translation() - pose_at(0).translation();
@@ -294,11 +307,16 @@ TEST(TubularEkf, StartsASecondSectionWhereTheTubeTurns) {
   // The last section's axis follows the second leg.
   const Eigen::Vector3d& last_axis = filter.Sections().back().geometry.axis;
   const double axis_error_deg = std::acos(std::min(1.0, last_axis.dot(second.axis))) * 180.0 / M_PI;
+  const double end_error_m =
+      (filter.WorldFromCam().translation() - pose_at(frames).translation()).norm();
+  std::printf("second leg's axis %.2f deg off, the camera %.1f mm off after 1.4 m\n",
+              axis_error_deg, 1000.0 * end_error_m);
   EXPECT_LT(axis_error_deg, 2.0);
-  // Measured: the second leg's axis 1.9 degrees off and the camera 25 mm off after 1.4 m (1.8 %);
-  // with the new sections' radius freer (new_section_radius_sigma 0.05) 0.1 degrees and 35 mm,
-  // the second section's radius 3 % short. The straight tube above stays within 3 mm.
-  EXPECT_LT((filter.WorldFromCam().translation() - pose_at(frames).translation()).norm(), 0.035);
+  // Measured: the second leg's axis 0.42 degrees off and the camera 21 mm off after 1.4 m; with
+  // straight sections only 1.9 degrees and 25 mm (with the new sections' radius freer,
+  // new_section_radius_sigma 0.05, 0.1 degrees and 35 mm, the second section's radius 3 % short).
+  // The straight tube above stays within 3 mm.
+  EXPECT_LT(end_error_m, 0.035);
 }
 
 }  // namespace

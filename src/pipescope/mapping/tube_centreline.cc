@@ -14,8 +14,12 @@ namespace pipescope {
 namespace {
 
 Eigen::Vector3d FootOnAxis(const TubeSection& section, const Eigen::Vector3d& point) {
-  return section.start + section.AxialCoordinate(point) * section.axis;
+  return section.CentrelinePoint(section.ArcCoordinate(point));
 }
+
+// The arc of a bending section is drawn as chords of this angle (their length falls short of the
+// arc's by a 30 000th).
+constexpr double kArcStepRad = 2.0 * M_PI / 180.0;
 
 // The segment index and parameter (metres from its first vertex, unclamped at the two ends) of
 // the point's foot on the polyline.
@@ -65,13 +69,29 @@ TubeCentreline BuildTubeCentreline(const std::vector<TubeSection>& sections,
     centreline.section.push_back(section);
     centreline.radius_m.push_back(sections[section].Radius());
   };
+  // Vertices along a bending section's arc, after its first vertex, up to `to`.
+  auto add_arc = [&](int i, const Eigen::Vector3d& to) {
+    const TubeSection& section = sections[i];
+    if (!section.Curved() || centreline.points.empty()) return;
+    const double from_s = section.ArcCoordinate(centreline.points.back());
+    const double to_s = section.ArcCoordinate(to);
+    const double step = kArcStepRad / section.curvature.norm();
+    const int steps = static_cast<int>(std::abs(to_s - from_s) / step);
+    for (int k = 1; k <= steps; ++k) {
+      add(section.CentrelinePoint(from_s + (to_s - from_s) * k / (steps + 1.0)), i);
+    }
+  };
   add(FootOnAxis(sections.front(), first_position), 0);
   for (std::size_t i = 1; i < sections.size(); ++i) {
-    add(SectionJunction(sections[i - 1], sections[i]), static_cast<int>(i));
+    const Eigen::Vector3d junction = SectionJunction(sections[i - 1], sections[i]);
+    add_arc(static_cast<int>(i) - 1, junction);
+    add(junction, static_cast<int>(i));
   }
   const TubeSection& last = sections.back();
-  const double end = std::max(0.0, last.AxialCoordinate(last_position));
-  add(last.start + end * last.axis, static_cast<int>(sections.size()) - 1);
+  const Eigen::Vector3d end =
+      last.CentrelinePoint(std::max(0.0, last.ArcCoordinate(last_position)));
+  add_arc(static_cast<int>(sections.size()) - 1, end);
+  add(end, static_cast<int>(sections.size()) - 1);
   if (centreline.points.size() < 2) {
     // A run that did not move: one vertex a radius further along, so the frame is defined.
     add(centreline.points.back() + last.Radius() * last.axis,

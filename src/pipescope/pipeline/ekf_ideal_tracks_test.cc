@@ -84,23 +84,32 @@ TEST(EkfIdealTracks, FollowsTheTubeBend) {
     filter.Update(matches);
   }
   const Eigen::Vector3d first_axis = filter.Sections().front().geometry.axis;
-  const Eigen::Vector3d last_axis = filter.Sections().back().geometry.axis;
+  // The last section's direction where the camera ended (it may bend).
+  const TubeSection& last = filter.Sections().back().geometry;
+  const Eigen::Vector3d last_axis =
+      last.TangentAt(last.ArcCoordinate(filter.WorldFromCam().translation()));
   const double bend = AngleDeg(first_axis, last_axis);
   const double heading_true = AngleDeg(simulation.FramePose(0).rotation().col(2),
                                        simulation.FramePose(config.frames - 1).rotation().col(2));
   const double heading =
       AngleDeg(simulation.FramePose(0).rotation().col(2), filter.WorldFromCam().rotation().col(2));
-  std::printf("sections %zu bend %.2f deg; camera heading change %.2f deg (truth %.2f)\n",
-              filter.Sections().size(), bend, heading, heading_true);
-  // Measured: 88.7 degrees of the true 90.3 (heading 89.6), the camera 37 mm off after 2.3 m;
-  // 85.1 (heading 85.6) when every feature counts fully (far_feature_radii 0), and 167 mm off
-  // with the new sections' radius freer (new_section_radius_sigma 0.05: radii 5-12 % short).
-  EXPECT_NEAR(bend, 90.0, 2.5);
-  EXPECT_NEAR(heading, heading_true, 2.0);
-  EXPECT_LT(
+  const double end_error_m =
       (filter.WorldFromCam().translation() - simulation.FramePose(config.frames - 1).translation())
-          .norm(),
-      0.06);
+          .norm();
+  std::printf(
+      "sections %zu bend %.2f deg; camera heading change %.2f deg (truth %.2f), %.1f mm off; the "
+      "bend's section %.3f / m\n",
+      filter.Sections().size(), bend, heading, heading_true, 1000.0 * end_error_m,
+      filter.Sections().size() > 1 ? filter.Sections()[1].geometry.curvature.norm() : 0.0);
+  // Measured with sections that bend (torus segments): 92.3 degrees of the true 90.3 (heading
+  // 91.2), the camera 26 mm off after 2.3 m; the bend's own section 1.98 / m (truth 2.0). The
+  // first section takes up a curvature of 0.09 / m from the bend ahead before the second starts,
+  // which tilts its start. With straight sections only (curvature_sigma_radii 0): 88.7 (heading
+  // 89.6), 37 mm; 85.1 (heading 85.6) when every feature counts fully (far_feature_radii 0), and
+  // 167 mm off with the new sections' radius freer (new_section_radius_sigma 0.05).
+  EXPECT_NEAR(bend, 90.0, 3.0);
+  EXPECT_NEAR(heading, heading_true, 2.0);
+  EXPECT_LT(end_error_m, 0.06);
 }
 
 }  // namespace

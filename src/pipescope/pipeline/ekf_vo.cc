@@ -111,6 +111,11 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
   cv::Mat view = BearingTable(camera, camera.MaxAngle()).valid_mask().clone();
   if (!gain_mask.empty()) view.setTo(0, gain_mask < kMinLitShare);
   result.axis_in_camera = ChooseAxisInCamera(manifest, camera, gain_mask, view, options, &result);
+  if (options.curvature_sigma_radii >= 0.0) {
+    filter_options.curvature_sigma_radii = options.curvature_sigma_radii;
+  } else if (!LooksDownTube(result.axis_in_camera)) {
+    filter_options.curvature_sigma_radii = 0.0;
+  }
   KltTrackerOptions tracker_options = options.tracker;
   const double flat_field_share = options.flat_field_width_share >= 0.0
                                       ? options.flat_field_width_share
@@ -212,6 +217,7 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
     TubeSection section = i == 0 ? first : world_sections[i];
     section.start = tube_from_world * section.start;
     section.axis = tube_from_world.linear() * section.axis;
+    section.curvature = tube_from_world.linear() * section.curvature;
     EkfSectionRecord record;
     record.geometry = section;
     record.first_frame =

@@ -35,6 +35,11 @@ struct EkfVoOptions {
   // cancels the shading and whose narrow view's coarse texture needs the low frequencies
   // (docs/ekf.md).
   double flat_field_width_share = -1.0;
+  // Sections may bend (TubularEkfOptions::curvature_sigma_radii) when >= 0; -1 = by the view: as
+  // the filter's default for a camera looking down the tube, straight sections only for a
+  // wall-looking camera, whose narrow patch of wall cannot show a bend (on steel-16in's 25-degree
+  // view a spurious bend took the run from 0.019 to 0.276 % off; docs/ekf.md).
+  double curvature_sigma_radii = -1.0;
   // Use the dataset's radius as the prior on the first section's log rho (metric run); false:
   // the run is up to scale (radius 1).
   bool metric = true;

@@ -121,6 +121,12 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
           [](O& o) -> double& { return o.filter.new_section_radius_sigma; }, 1e-6, 1.0, "",
           "sections: relative sigma of a new section's radius about the dataset's"),
       Number<O>(
+          "curvature_sigma_radii", [](O& o) -> double& { return o.curvature_sigma_radii; }, -1.0,
+          2.0, "1/radii",
+          "sections: prior sigma of a section's curvature times the radius (a section may bend as "
+          "a torus segment; 0: straight sections only, as 004; -1: 0.3 looking down the tube, 0 "
+          "for a wall-looking camera)"),
+      Number<O>(
           "max_active_sections", [](O& o) -> int& { return o.filter.max_active_sections; }, 1, 100,
           "", "sections: kept in the filter's state; older ones are frozen"),
       Choice<O>(
