@@ -421,7 +421,7 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   if (turn_deg > kEkfMaxUnconfirmedTurnDeg) {
     position_reasons.push_back(fmt::format(
         "the sections turn {:.0f} deg in all: the filter cannot check the angle it turned (on "
-        "simulated bends it came out 0.1-4 deg off, 16 deg where the bend was in view from the "
+        "simulated bends it came out up to 4 deg off, 16 deg where the bend was in view from the "
         "first frame, docs/ekf.md), so the positions beyond the bend and straight-line distances "
         "across it are unconfirmed; the distances along the centreline are not affected",
         turn_deg));

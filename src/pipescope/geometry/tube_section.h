@@ -105,7 +105,17 @@ bool IntersectRayWithTubeSection(const Eigen::Matrix<T, 3, 1>& origin,
                                  const Eigen::Matrix<T, 3, 1>& curvature, const T& radius,
                                  T* alpha) {
   const Eigen::Matrix<T, 3, 1> across = curvature - curvature.dot(axis) * axis;
-  if (ScalarValue(across.squaredNorm()) == 0.0) {
+  // The values, once: Newton's method runs in doubles.
+  Eigen::Vector3d o, d, s, x, k;
+  for (int i = 0; i < 3; ++i) {
+    o[i] = ScalarValue(origin[i]);
+    d[i] = ScalarValue(direction[i]);
+    s[i] = ScalarValue(start[i]);
+    x[i] = ScalarValue(axis[i]);
+    k[i] = ScalarValue(across[i]);
+  }
+  const double r = ScalarValue(radius);
+  if (k.squaredNorm() == 0.0) {
     // A straight section's root is exact; a Jet still iterates, for its curvature derivatives.
     if (!IntersectRayWithCylinder<T>(origin, direction, start, axis, radius, alpha)) return false;
     if (std::is_same_v<T, double>) return true;
@@ -113,44 +123,23 @@ bool IntersectRayWithTubeSection(const Eigen::Matrix<T, 3, 1>& origin,
     // The first guess: the cylinder along the arc's tangent at the origin's foot (far along a
     // bend the start's own axis has left the tube).
     TubeSection local;
-    for (int i = 0; i < 3; ++i) {
-      local.start[i] = ScalarValue(start[i]);
-      local.axis[i] = ScalarValue(axis[i]);
-      local.curvature[i] = ScalarValue(across[i]);
-    }
-    Eigen::Vector3d o, d;
-    for (int i = 0; i < 3; ++i) {
-      o[i] = ScalarValue(origin[i]);
-      d[i] = ScalarValue(direction[i]);
-    }
+    local.start = s;
+    local.axis = x;
+    local.curvature = k;
     const double foot = local.ArcCoordinate(o);
     double guess = 0.0;
     if (!IntersectRayWithCylinder<double>(o, d, local.CentrelinePoint(foot), local.TangentAt(foot),
-                                          ScalarValue(radius), &guess)) {
+                                          r, &guess)) {
       return false;
     }
     *alpha = T(guess);
   }
-  auto residual = [&](const T& a) {
-    return SquaredDistanceFromCentreline<T>(origin + a * direction - start, axis, across) -
-           radius * radius;
-  };
   auto value = [&](double a) {
-    Eigen::Vector3d o, d, s, x, k;
-    for (int i = 0; i < 3; ++i) {
-      o[i] = ScalarValue(origin[i]);
-      d[i] = ScalarValue(direction[i]);
-      s[i] = ScalarValue(start[i]);
-      x[i] = ScalarValue(axis[i]);
-      k[i] = ScalarValue(across[i]);
-    }
-    const double r = ScalarValue(radius);
     return SquaredDistanceFromCentreline<double>(o + a * d - s, x, k) - r * r;
   };
   // Newton's method in doubles; then one step with T from the root, which leaves its value and
   // gives a Jet the implicit derivative, d alpha = -dF / (dF/d alpha).
-  const double scale = ScalarValue(radius);
-  const double h = 1e-6 * scale;
+  const double h = 1e-6 * r;
   double a = ScalarValue(*alpha), slope = 0.0;
   bool converged = false;
   for (int iteration = 0; iteration < 12 && !converged; ++iteration) {
@@ -158,10 +147,13 @@ bool IntersectRayWithTubeSection(const Eigen::Matrix<T, 3, 1>& origin,
     if (!(slope > 0.0)) return false;  // leaving the wall, or tangent to it
     const double step = value(a) / slope;
     a -= step;
-    converged = std::abs(step) < 1e-12 * scale;
+    converged = std::abs(step) < 1e-12 * r;
   }
   if (!converged || !(a > 0.0)) return false;
-  *alpha = T(a) - residual(T(a)) / slope;
+  const T residual =
+      SquaredDistanceFromCentreline<T>(origin + T(a) * direction - start, axis, across) -
+      radius * radius;
+  *alpha = T(a) - residual / slope;
   return true;
 }
 
