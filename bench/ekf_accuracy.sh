@@ -10,7 +10,8 @@
 # bend and seed 7 of the 45- and 135-degree bends are held out, and so are two harder runs: seed 11
 # with texture contrast 0.4, specular strength 0.6 and noise sigma 3, and seed 13 wandering
 # 30 mm off the axis (0.3 radii) with 5 degrees of wobble and 10 of roll. Seed 17 of the weak
-# texture was added on 2026-11-30, after the bending sections' settings were chosen.
+# texture was added on 2026-11-30, after the bending sections' settings were chosen. The fe190-*
+# runs are the same bends through 001's 190-degree fisheye.
 # Usage: bench/ekf_accuracy.sh [BUILD_DIR] [OUT_DIR]
 set -euo pipefail
 BUILD_DIR=${1:-build}
@@ -45,11 +46,22 @@ simulate bend90-weak-s17 tube-bend --frames 700 --seed 17 --set texture_contrast
   --set specular_strength=0.6 --set noise_sigma=3
 simulate bend90-wander tube-bend --frames 700 --seed 13 --set lateral_offset_m=0.03 \
   --set wobble_deg=5 --set roll_deg=10
+# 001's 190-degree fisheye (fisheye-poly) through the same bends; seeds 1-3 of the 90-degree bend
+# served to choose the tracker's margin from the image circle's edge (2026-12-01), seed 5 and
+# seed 7 of the 45- and 135-degree bends were held out.
+FISHEYE=(--set camera_model=fisheye-poly --set fov_deg=190)
+simulate fe190-bend90 tube-bend --frames 700 --seed 1 "${FISHEYE[@]}"
+simulate fe190-bend90-seed2 tube-bend --frames 700 --seed 2 "${FISHEYE[@]}"
+simulate fe190-bend90-seed3 tube-bend --frames 700 --seed 3 "${FISHEYE[@]}"
+simulate fe190-bend90-seed5 tube-bend --frames 700 --seed 5 "${FISHEYE[@]}"
+simulate fe190-bend45-seed7 tube-bend --frames 620 --seed 7 --set bend_angle_deg=45 "${FISHEYE[@]}"
+simulate fe190-bend135-seed7 tube-bend --frames 860 --seed 7 --set bend_angle_deg=135 "${FISHEYE[@]}"
 simulate steel-16in steel-16in --frames 400 --seed 1 --set out_and_back=false
 simulate steel-6in steel-6in --frames 300 --seed 1
 
 for name in bend90 bend90-seed2 bend90-seed3 bend45 bend135 bend90-r1m bend90-seed5 bend45-seed7 \
-  bend135-seed7 bend90-weak bend90-weak-s17 bend90-wander; do
+  bend135-seed7 bend90-weak bend90-weak-s17 bend90-wander fe190-bend90 fe190-bend90-seed2 \
+  fe190-bend90-seed3 fe190-bend90-seed5 fe190-bend45-seed7 fe190-bend135-seed7; do
   "$P" odometry "$OUT/$name" --method ekf --out "$OUT/run-$name" -q --no-report > /dev/null 2>&1 || true
   python3 "$HERE/ekf_evaluate.py" "$OUT/$name" "$OUT/run-$name" "$name"
 done

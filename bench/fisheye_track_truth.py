@@ -56,6 +56,34 @@ class FisheyePoly:
         return np.stack([s * du / r, s * dv / r, np.cos(theta)], 1), theta
 
 
+def load_fisheye_dataset(d):
+    """A simulated dataset's fisheye-poly camera, scene radius, ground truth rows, image size."""
+    camera_yaml = yaml.safe_load(open(f"{d}/camera.yaml"))
+    if camera_yaml["model"] != "fisheye-poly":
+        sys.exit(f"{d}/camera.yaml: model {camera_yaml['model']}, this needs fisheye-poly")
+    camera = FisheyePoly(camera_yaml["params"])
+    radius = float(yaml.safe_load(open(f"{d}/scene.yaml"))["radius"])
+    truth = np.loadtxt(f"{d}/groundtruth.tum")
+    return camera, radius, truth, camera_yaml["width"], camera_yaml["height"]
+
+
+def cylinder_wall_and_next_pixels(camera, truth, radius, pixels, i, j):
+    """The wall points the pixels of frame i see on the cylinder along z through the origin, from
+    the true pose of frame i, and where they lie in frame j (groundtruth.tum rows)."""
+    def pose(k):
+        return rotation_from_quaternion(*truth[k, 4:8]), truth[k, 1:4]
+
+    bearings, _ = camera.unproject(pixels)
+    rotation, origin = pose(i)
+    direction = bearings @ rotation.T
+    a = direction[:, 0]**2 + direction[:, 1]**2
+    b = 2 * (origin[0] * direction[:, 0] + origin[1] * direction[:, 1])
+    c = origin[0]**2 + origin[1]**2 - radius**2
+    wall = origin + ((-b + np.sqrt(b * b - 4 * a * c)) / (2 * a))[:, None] * direction
+    rotation_j, origin_j = pose(j)
+    return wall, camera.project((wall - origin_j) @ rotation_j)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("dataset")
@@ -68,27 +96,10 @@ def main():
     parser.add_argument("--guess-scale", type=float, default=None)
     args = parser.parse_args()
     d = args.dataset
-    camera_yaml = yaml.safe_load(open(f"{d}/camera.yaml"))
-    if camera_yaml["model"] != "fisheye-poly":
-        sys.exit(f"{d}/camera.yaml: model {camera_yaml['model']}, this needs fisheye-poly")
-    camera = FisheyePoly(camera_yaml["params"])
-    radius = float(yaml.safe_load(open(f"{d}/scene.yaml"))["radius"])
-    truth = np.loadtxt(f"{d}/groundtruth.tum")
-    width, height = camera_yaml["width"], camera_yaml["height"]
-
-    def pose(i):
-        return rotation_from_quaternion(*truth[i, 4:8]), truth[i, 1:4]
+    camera, radius, truth, width, height = load_fisheye_dataset(d)
 
     def true_pixels(pixels, i, j):
-        bearings, _ = camera.unproject(pixels)
-        rotation, origin = pose(i)
-        direction = bearings @ rotation.T
-        a = direction[:, 0]**2 + direction[:, 1]**2
-        b = 2 * (origin[0] * direction[:, 0] + origin[1] * direction[:, 1])
-        c = origin[0]**2 + origin[1]**2 - radius**2
-        wall = origin + ((-b + np.sqrt(b * b - 4 * a * c)) / (2 * a))[:, None] * direction
-        rotation_j, origin_j = pose(j)
-        return camera.project((wall - origin_j) @ rotation_j)
+        return cylinder_wall_and_next_pixels(camera, truth, radius, pixels, i, j)[1]
 
     def followed_image(grey):
         image = grey.astype(np.float32)

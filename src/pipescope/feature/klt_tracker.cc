@@ -1,6 +1,7 @@
 #include "pipescope/feature/klt_tracker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -16,9 +17,10 @@ void KltTracker::SetViewMask(const cv::Mat& view_mask) {
     inner_view_ = cv::Mat();
     return;
   }
-  const int half = options_.window_px / 2 + 1;
+  const int margin =
+      static_cast<int>(std::ceil(options_.view_margin_windows * options_.window_px)) + 1;
   cv::erode(view_mask != 0, inner_view_,
-            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * half + 1, 2 * half + 1)),
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)),
             cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
 }
 

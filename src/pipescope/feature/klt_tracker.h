@@ -36,6 +36,13 @@ struct KltTrackerOptions {
   // the bend; with the shading taken out, within 0.015 px (docs/ekf.md). The sigma must exceed
   // the texture's scale: the low frequencies it removes are lost to the tracker.
   double flat_field_sigma_px = 0.0;
+  // How far inside the view mask's edge (SetViewMask) corners are taken and tracks kept, in
+  // Lucas-Kanade windows. The edge of a fisheye's image circle stays put in the image while the
+  // wall moves, and a window that reaches it is held there: the pyramid's coarser levels see it
+  // from farther still, and a track held both ways passes the round trip. On the 190-degree
+  // tube-bend at half a window, the tracks 10-12 px inside the edge (90-91 degrees off the axis)
+  // moved a median 0.03 of the true flow; a window's width keeps them out (docs/ekf.md).
+  double view_margin_windows = 1.0;
 };
 
 struct KltPair {
@@ -50,8 +57,9 @@ class KltTracker {
 
   // The pixels the camera sees (CV_8U, non-zero; the frame's size). Outside a fisheye's image
   // circle a frame holds only noise (which the gain mask multiplies), and corners found there
-  // track nothing on the wall. No corner is taken, and no track kept, within half a Lucas-Kanade
-  // window of the mask's edge. Empty (the default): every pixel.
+  // track nothing on the wall. No corner is taken, and no track kept, within view_margin_windows
+  // Lucas-Kanade windows of the mask's edge (the image's own border is not an edge of the mask).
+  // Empty (the default): every pixel.
   void SetViewMask(const cv::Mat& view_mask);
 
   // Tracks the previous frame's corners into `grey8` (CV_8U) and returns the pairs that passed
@@ -62,7 +70,7 @@ class KltTracker {
   void TopUp(const cv::Mat& grey8);
 
   KltTrackerOptions options_;
-  cv::Mat inner_view_;  // SetViewMask's mask shrunk by half a window; empty = every pixel
+  cv::Mat inner_view_;  // SetViewMask's mask shrunk by the margin; empty = every pixel
   std::vector<cv::Mat> previous_pyramid_;
   cv::Mat previous_;
   std::vector<cv::Point2f> points_;
