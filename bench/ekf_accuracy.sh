@@ -56,12 +56,19 @@ simulate fe190-bend90-seed3 tube-bend --frames 700 --seed 3 "${FISHEYE[@]}"
 simulate fe190-bend90-seed5 tube-bend --frames 700 --seed 5 "${FISHEYE[@]}"
 simulate fe190-bend45-seed7 tube-bend --frames 620 --seed 7 --set bend_angle_deg=45 "${FISHEYE[@]}"
 simulate fe190-bend135-seed7 tube-bend --frames 860 --seed 7 --set bend_angle_deg=135 "${FISHEYE[@]}"
+# Held out too, run once after the choice: the 1 m bend radius, the weak texture, the wander.
+simulate fe190-bend90-r1m tube-bend --frames 950 --seed 1 --set bend_radius_m=1.0 "${FISHEYE[@]}"
+simulate fe190-bend90-weak tube-bend --frames 700 --seed 11 --set texture_contrast=0.4 \
+  --set specular_strength=0.6 --set noise_sigma=3 "${FISHEYE[@]}"
+simulate fe190-bend90-wander tube-bend --frames 700 --seed 13 --set lateral_offset_m=0.03 \
+  --set wobble_deg=5 --set roll_deg=10 "${FISHEYE[@]}"
 simulate steel-16in steel-16in --frames 400 --seed 1 --set out_and_back=false
 simulate steel-6in steel-6in --frames 300 --seed 1
 
 for name in bend90 bend90-seed2 bend90-seed3 bend45 bend135 bend90-r1m bend90-seed5 bend45-seed7 \
   bend135-seed7 bend90-weak bend90-weak-s17 bend90-wander fe190-bend90 fe190-bend90-seed2 \
-  fe190-bend90-seed3 fe190-bend90-seed5 fe190-bend45-seed7 fe190-bend135-seed7; do
+  fe190-bend90-seed3 fe190-bend90-seed5 fe190-bend45-seed7 fe190-bend135-seed7 fe190-bend90-r1m \
+  fe190-bend90-weak fe190-bend90-wander; do
   "$P" odometry "$OUT/$name" --method ekf --out "$OUT/run-$name" -q --no-report > /dev/null 2>&1 || true
   python3 "$HERE/ekf_evaluate.py" "$OUT/$name" "$OUT/run-$name" "$name"
 done

@@ -30,8 +30,8 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
           "max_round_trip_px", [](O& o) -> double& { return o.tracker.max_round_trip_px; }, 0.01,
           100.0, "px", "tracking: forward-backward check"),
       Number<O>(
-          "view_margin_windows", [](O& o) -> double& { return o.tracker.view_margin_windows; },
-          0.0, 20.0, "windows",
+          "view_margin_windows", [](O& o) -> double& { return o.tracker.view_margin_windows; }, 0.0,
+          20.0, "windows",
           "tracking: no feature within this many Lucas-Kanade windows of the lit view's edge (a "
           "fisheye's image circle)"),
       Number<O>(
