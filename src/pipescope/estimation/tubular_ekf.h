@@ -69,7 +69,10 @@ struct TubularEkfOptions {
   // (radii, along its axis from its start to the camera), and where the new section starts: this
   // many radii ahead of the camera along the current axis when the gate started it; when the
   // tracks' drift did, where the drifting tracks' wall points begin (their lowest tenth along
-  // the axis), at least this far ahead.
+  // the axis), at least this far ahead. One radius: the drift is seen late where the far wall is
+  // dark or small in the image (a fisheye), when the camera is already at the bend, and the
+  // stretch of bend left to the section before pulls it (2 radii: bends 1.5-4.2 degrees short
+  // through 001's fisheye, ATE 3.7-5.4 mm on the pinhole 90-degree bends against 1.7-2.6).
   double spawn_gated_fraction = 0.2;
   // ... or a frame whose tracks drift from their wall points: each track's wall point, placed on
   // the section when the track was first seen, is projected into every later frame; when the
@@ -83,7 +86,7 @@ struct TubularEkfOptions {
   double spawn_track_drift_px = 5.0;
   int spawn_frames = 3;
   double min_section_length_radii = 1.0;
-  double spawn_lookahead_radii = 2.0;
+  double spawn_lookahead_radii = 1.0;
   // After a straight section, a new section's axis first continues the turn from the section
   // before the current one to the current one (scaled by their lengths), instead of the current
   // axis: in a bend the filter then corrects a guess centred on the curve rather than lagging

@@ -51,6 +51,8 @@ Eigen::Vector3d ChooseAxisInCamera(const DatasetManifest& manifest, const Camera
 // The share of the gain mask's brightest below which a pixel counts as unlit: the frame there,
 // divided by the mask, is mostly amplified noise.
 constexpr double kMinLitShare = 0.05;
+// A wall-looking camera's least look-ahead for a new section (EkfVoOptions::spawn_lookahead_radii).
+constexpr double kWallViewLookaheadRadii = 2.0;
 
 cv::Mat PreparedGrey(const cv::Mat& grey, const cv::Mat& gain_mask) {
   return gain_mask.empty() ? grey : ApplyGainMask(grey, gain_mask);
@@ -115,6 +117,11 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
     filter_options.curvature_sigma_radii = options.curvature_sigma_radii;
   } else if (!LooksDownTube(result.axis_in_camera)) {
     filter_options.curvature_sigma_radii = 0.0;
+  }
+  if (options.spawn_lookahead_radii >= 0.0) {
+    filter_options.spawn_lookahead_radii = options.spawn_lookahead_radii;
+  } else if (!LooksDownTube(result.axis_in_camera)) {
+    filter_options.spawn_lookahead_radii = kWallViewLookaheadRadii;
   }
   KltTrackerOptions tracker_options = options.tracker;
   const double flat_field_share = options.flat_field_width_share >= 0.0

@@ -40,6 +40,12 @@ struct EkfVoOptions {
   // wall-looking camera, whose narrow patch of wall cannot show a bend (on steel-16in's 25-degree
   // view a spurious bend took the run from 0.019 to 0.276 % off; docs/ekf.md).
   double curvature_sigma_radii = -1.0;
+  // How far ahead of the camera a new section starts at the least
+  // (TubularEkfOptions::spawn_lookahead_radii) when >= 0; -1 = by the view: as the filter's
+  // default looking down the tube, 2 radii for a wall-looking camera, whose view spans about a
+  // radius of wall either side of it: a junction inside the view splits its tracks over two
+  // sections (steel-16in's spurious sections at 1 radius: +0.213 % against +0.003 %; docs/ekf.md).
+  double spawn_lookahead_radii = -1.0;
   // Use the dataset's radius as the prior on the first section's log rho (metric run); false:
   // the run is up to scale (radius 1).
   bool metric = true;

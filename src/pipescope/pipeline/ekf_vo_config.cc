@@ -108,8 +108,10 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
           [](O& o) -> double& { return o.filter.min_section_length_radii; }, 0.0, 1000.0, "radii",
           "sections: shortest section"),
       Number<O>(
-          "spawn_lookahead_radii", [](O& o) -> double& { return o.filter.spawn_lookahead_radii; },
-          0.0, 100.0, "radii", "sections: a new section starts this far ahead of the camera"),
+          "spawn_lookahead_radii", [](O& o) -> double& { return o.spawn_lookahead_radii; }, -1.0,
+          100.0, "radii",
+          "sections: a new section starts at least this far ahead of the camera (-1: 1 looking "
+          "down the tube, 2 for a wall-looking camera)"),
       Flag<O>(
           "extrapolate_turn", [](O& o) -> bool& { return o.filter.extrapolate_turn; },
           "sections: a new section first continues the turn between the last two"),
