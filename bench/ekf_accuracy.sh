@@ -12,7 +12,8 @@
 # 30 mm off the axis (0.3 radii) with 5 degrees of wobble and 10 of roll. Seed 17 of the weak
 # texture was added on 2026-11-30, after the bending sections' settings were chosen. The fe190-*
 # runs are the same bends through 001's 190-degree fisheye. The new section's look-ahead (one
-# radius, 2026-12-01) was chosen on seeds 1-3 of the 90-degree bend of each camera.
+# radius, 2026-12-01) was chosen on seeds 1-3 of the 90-degree bend of each camera, the flat
+# field as an angle and the margin of 1.5 windows (the same day) on the fisheye's seeds 1-3.
 # Usage: bench/ekf_accuracy.sh [BUILD_DIR] [OUT_DIR]
 set -euo pipefail
 BUILD_DIR=${1:-build}

@@ -67,6 +67,15 @@ bool Camera::IsInImage(const Eigen::Vector2d& pixel) const {
          pixel.y() <= height_ - 0.5;
 }
 
+double Camera::PixelsPerRadianOnAxis() const {
+  Eigen::Vector2d pixel;
+  Eigen::Matrix<double, 2, 3> d_pixel_d_point;
+  // Just off the axis, where a fisheye's radius over its angle is defined; at z = 1 the point's
+  // x is the angle to first order.
+  ProjectWithJacobians(Eigen::Vector3d(1e-6, 0.0, 1.0), &pixel, &d_pixel_d_point, nullptr);
+  return d_pixel_d_point(0, 0);
+}
+
 ProjectionStatus Camera::CheckDirection(const Eigen::Vector3d& point_cam) const {
   if (point_cam.isZero(0.0)) return ProjectionStatus::kBehindCamera;
   if (CameraModelNeedsPositiveDepth(model_id_) && !(point_cam.z() > 0.0)) {

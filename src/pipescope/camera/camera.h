@@ -43,6 +43,11 @@ class Camera {
   // covers [-0.5, width - 0.5] x [-0.5, height - 0.5].
   bool IsInImage(const Eigen::Vector2d& pixel) const;
 
+  // Pixels per radian of view angle at the optical axis: fx for a pinhole or Kannala-Brandt
+  // camera, k1 for 001's polynomial fisheye. Sets a pattern over angles (the lights' shading) in
+  // pixels.
+  double PixelsPerRadianOnAxis() const;
+
   ProjectionStatus Project(const Eigen::Vector3d& point_cam, Eigen::Vector2d* pixel) const;
 
   // Project() with the derivatives of the pixel with respect to the point (2x3) and to the

@@ -385,6 +385,22 @@ TEST(Camera, ProjectionStatuses) {
   EXPECT_FALSE(radtan.IsInImage(Eigen::Vector2d(10, 479.51)));
 }
 
+TEST(Camera, PixelsPerRadianOnAxisIsTheFocalLengthOrK1) {
+  const Camera radtan(CameraModelId::kPinholeRadtan, 640, 480,
+                      {400, 380, 320, 240, -0.2, 0.05, 0.001, 0.002, 0});
+  const Camera kb(CameraModelId::kKannalaBrandt, 640, 480, {300, 310, 320, 240, 0.1, 0, 0, 0});
+  const Camera poly(CameraModelId::kFisheyePoly, 640, 480, {146, -1.5, 0.2, 0, 320, 240});
+  EXPECT_NEAR(radtan.PixelsPerRadianOnAxis(), 400.0, 1e-4);  // the probe is 1e-6 off the axis
+  EXPECT_NEAR(kb.PixelsPerRadianOnAxis(), 300.0, 1e-6);
+  EXPECT_NEAR(poly.PixelsPerRadianOnAxis(), 146.0, 1e-6);
+  // Against a finite difference of Project over a small angle.
+  Eigen::Vector2d centre, off;
+  const double angle = 1e-4;
+  poly.Project(Eigen::Vector3d(0, 0, 1), &centre);
+  poly.Project(Eigen::Vector3d(std::sin(angle), 0, std::cos(angle)), &off);
+  EXPECT_NEAR((off - centre).norm() / angle, poly.PixelsPerRadianOnAxis(), 1e-3);
+}
+
 TEST(Camera, RejectsBadParameters) {
   try {
     Camera(CameraModelId::kPinholeRadtan, 640, 480, {400, 400, 320, 240});

@@ -421,7 +421,7 @@ int RunEkfOdometry(const OdometryFlags& flags) {
   if (turn_deg > kEkfMaxUnconfirmedTurnDeg) {
     position_reasons.push_back(fmt::format(
         "the sections turn {:.0f} deg in all: the filter cannot check the angle it turned (on "
-        "simulated bends of good texture it came out within 1.3 deg, 13 deg off on weak texture "
+        "simulated bends of good texture it came out within 1.5 deg, 11 deg off on weak texture "
         "through a fisheye, 16 deg where the bend was in view from the first frame, docs/ekf.md), "
         "so the positions beyond the bend and straight-line distances "
         "across it are unconfirmed; the distances along the centreline are not affected",

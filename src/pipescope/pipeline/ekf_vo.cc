@@ -53,6 +53,9 @@ Eigen::Vector3d ChooseAxisInCamera(const DatasetManifest& manifest, const Camera
 constexpr double kMinLitShare = 0.05;
 // A wall-looking camera's least look-ahead for a new section (EkfVoOptions::spawn_lookahead_radii).
 constexpr double kWallViewLookaheadRadii = 2.0;
+// The flat field's sigma looking down the tube, as an angle at the image centre
+// (EkfVoOptions::flat_field_width_share): the lights' shading is a pattern over angles.
+constexpr double kFlatFieldSigmaRad = 0.1;
 
 cv::Mat PreparedGrey(const cv::Mat& grey, const cv::Mat& gain_mask) {
   return gain_mask.empty() ? grey : ApplyGainMask(grey, gain_mask);
@@ -124,10 +127,13 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
     filter_options.spawn_lookahead_radii = kWallViewLookaheadRadii;
   }
   KltTrackerOptions tracker_options = options.tracker;
-  const double flat_field_share = options.flat_field_width_share >= 0.0
-                                      ? options.flat_field_width_share
-                                      : (LooksDownTube(result.axis_in_camera) ? 0.05 : 0.0);
-  tracker_options.flat_field_sigma_px = flat_field_share * camera.Width();
+  if (options.flat_field_width_share >= 0.0) {
+    tracker_options.flat_field_sigma_px = options.flat_field_width_share * camera.Width();
+  } else {
+    tracker_options.flat_field_sigma_px = LooksDownTube(result.axis_in_camera)
+                                              ? kFlatFieldSigmaRad * camera.PixelsPerRadianOnAxis()
+                                              : 0.0;
+  }
   KltTracker tracker(tracker_options);
   tracker.SetViewMask(view);
   std::optional<TubularEkf> filter;

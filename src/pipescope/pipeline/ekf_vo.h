@@ -29,9 +29,11 @@ struct EkfVoOptions {
   // EkfVoResult::travel).
   std::string axis_along_tube = "auto";
   // Lucas-Kanade tracks each frame divided by its blur of this sigma, as a share of the image
-  // width (KltTrackerOptions::flat_field_sigma_px); -1 = by the view: a twentieth for a camera
-  // looking down the tube, whose gain mask (made in a straight tube, on the axis) leaves the
-  // shading of a bend or an offset camera, and none for a wall-looking camera, whose gain mask
+  // width (KltTrackerOptions::flat_field_sigma_px); -1 = by the view: for a camera looking down
+  // the tube, whose gain mask (made in a straight tube, on the axis) leaves the shading of a bend
+  // or an offset camera, 0.1 rad at the image centre's scale (a twentieth of the width for
+  // tube-bend's pinhole camera, 0.023 of it, 15 px, for 001's 190-degree fisheye at 146 px a
+  // radian); none for a wall-looking camera, whose gain mask
   // cancels the shading and whose narrow view's coarse texture needs the low frequencies
   // (docs/ekf.md).
   double flat_field_width_share = -1.0;

@@ -41,7 +41,8 @@ const OptionTable<EkfVoOptions>& EkfVoOptionTable() {
           "flat_field_width_share", [](O& o) -> double& { return o.flat_field_width_share; }, -1.0,
           1.0, "",
           "tracking: Lucas-Kanade tracks the frame over its blur of this sigma (share of the "
-          "width; 0 = the frame; -1 = a twentieth looking down the tube, 0 at the wall)"),
+          "width; 0 = the frame; -1 = 0.1 rad at the image centre looking down the tube, 0 at "
+          "the wall)"),
       Number<O>(
           "linear_acceleration_sigma",
           [](O& o) -> double& { return o.filter.linear_acceleration_sigma; }, 1e-6, 1000.0, "m/s^2",
