@@ -98,6 +98,16 @@ TubeCentreline BuildTubeCentreline(const std::vector<TubeSection>& sections,
         static_cast<int>(sections.size()) - 1);
   }
 
+  // The sections' tangents at the vertices: a vertex leaves along its own section and arrives
+  // along the section of the vertex before.
+  const std::size_t vertices = centreline.points.size();
+  for (std::size_t i = 0; i < vertices; ++i) {
+    const Eigen::Vector3d& point = centreline.points[i];
+    const TubeSection& leaving = sections[centreline.section[i]];
+    const TubeSection& arriving = sections[centreline.section[i > 0 ? i - 1 : 0]];
+    centreline.tangents_out.push_back(leaving.TangentAt(leaving.ArcCoordinate(point)));
+    centreline.tangents_in.push_back(arriving.TangentAt(arriving.ArcCoordinate(point)));
+  }
   // Parallel transport of phi = 0: turn the previous normal by the rotation taking the previous
   // tangent to the next.
   Eigen::Vector3d tangent = (centreline.points[1] - centreline.points[0]).normalized();
@@ -130,11 +140,35 @@ CentrelineFrame CentrelineFrameAt(const TubeCentreline& centreline, double arc_m
   while (segment > 0 && centreline.arc_m[segment + 1] - centreline.arc_m[segment] <= 0.0) --segment;
   CentrelineFrame frame;
   const double length = centreline.arc_m[segment + 1] - centreline.arc_m[segment];
-  frame.tangent = (centreline.points[segment + 1] - centreline.points[segment]) / length;
-  frame.point = centreline.points[segment] + (arc_m - centreline.arc_m[segment]) * frame.tangent;
-  frame.normal = centreline.normals[segment];
-  frame.binormal = frame.tangent.cross(frame.normal);
+  const Eigen::Vector3d direction =
+      (centreline.points[segment + 1] - centreline.points[segment]) / length;
+  const double t = arc_m - centreline.arc_m[segment];
+  frame.point = centreline.points[segment] + t * direction;
   frame.radius_m = centreline.radius_m[segment];
+  // Along the segment the sections' tangent turns from its start to its end (a bending
+  // section's chord; constant on a straight one).
+  const Eigen::Vector3d& start = centreline.tangents_out[segment];
+  const Eigen::Vector3d& end = centreline.tangents_in[segment + 1];
+  const double share = std::clamp(t / length, 0.0, 1.0);
+  Eigen::Vector3d tangent =
+      Eigen::Quaterniond::Identity().slerp(share, Eigen::Quaterniond::FromTwoVectors(start, end)) *
+      start;
+  // Near a vertex where the sections meet at an angle, towards its bisector: half the angle
+  // within `reach` of the vertex, as a mitred joint's rings turn.
+  const double reach = std::min(frame.radius_m, 0.5 * length);
+  auto towards_bisector = [&](int vertex, double distance, const Eigen::Vector3d& own) {
+    if (vertex <= 0 || vertex >= static_cast<int>(centreline.points.size()) - 1) return;
+    if (distance >= reach) return;
+    const Eigen::Vector3d bisector =
+        (centreline.tangents_in[vertex] + centreline.tangents_out[vertex]).normalized();
+    tangent += (1.0 - distance / reach) * (bisector - own);
+  };
+  towards_bisector(segment, t, start);
+  towards_bisector(segment + 1, length - t, end);
+  frame.tangent = tangent.normalized();
+  const Eigen::Vector3d& normal = centreline.normals[segment];
+  frame.normal = (normal - normal.dot(frame.tangent) * frame.tangent).normalized();
+  frame.binormal = frame.tangent.cross(frame.normal);
   return frame;
 }
 

@@ -18,6 +18,11 @@ struct TubeCentreline {
   std::vector<double> radius_m;          // radius of the section leaving each vertex
   std::vector<int> section;              // index of the section leaving each vertex
   std::vector<Eigen::Vector3d> normals;  // phi = 0 direction of each segment (vertices - 1)
+  // The sections' own tangents at each vertex, arriving and leaving: they differ where
+  // consecutive sections meet at an angle, and both differ from a segment's direction where a
+  // section's start lies off the end of the one before (the filter moves starts across the
+  // axis), which the short segment between them bridges.
+  std::vector<Eigen::Vector3d> tangents_in, tangents_out;
 
   double Length() const { return arc_m.empty() ? 0.0 : arc_m.back(); }
 };
@@ -34,6 +39,10 @@ TubeCentreline BuildTubeCentreline(const std::vector<TubeSection>& sections,
 double ArcLengthAlong(const TubeCentreline& centreline, const Eigen::Vector3d& point);
 
 // The centreline frame at arc length `arc_m` (extended past the ends along the end segments).
+// The point runs along the polyline; the tangent is the sections' (turning along a bending
+// section's chords as along its arc), and within a radius of a vertex where the sections meet at
+// an angle it turns to the angle's bisector, so that the rings of wall across the tube (the
+// mosaic's columns) never fold back over each other there.
 struct CentrelineFrame {
   Eigen::Vector3d point;
   Eigen::Vector3d tangent;

@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -78,6 +81,66 @@ TEST(TubeCentreline, RunsThroughTheCornersOfTheChain) {
   EXPECT_NE(ply.find("element edge 2"), std::string::npos);
   EXPECT_NE(ply.find("\n1 2\n"), std::string::npos);
   std::filesystem::remove_all(dir);
+}
+
+// A bend (2 /m, 0.4 m) and a straight section whose start the filter moved 8 mm off the bend's
+// end and whose axis leaves 9 degrees off the bend's end tangent: the short segment bridging
+// the two is tilted far more than either. The rings of wall across the tube (the mosaic's
+// columns) must still follow one another without folding back: each ring's wall points lie
+// ahead of the ring before it, at every clock angle.
+TEST(TubeCentreline, RingsDoNotFoldBackAtAnOffsetKinkedJunction) {
+  const double radius = 0.1;
+  TubeSection bend = Section(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), radius);
+  bend.curvature = Eigen::Vector3d(0, 2.0, 0);
+  const double bend_length = 0.4;
+  const Eigen::Vector3d end_tangent = bend.TangentAt(bend_length);
+  const Eigen::Vector3d turn_axis = end_tangent.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d kinked =
+      Eigen::AngleAxisd(-9.0 * M_PI / 180.0, turn_axis.cross(end_tangent)) * end_tangent;
+  const Eigen::Vector3d offset = 0.008 * turn_axis;
+  TubeSection straight = Section(bend.CentrelinePoint(bend_length) + offset, kinked, radius);
+  const std::vector<TubeSection> sections = {bend, straight};
+  const TubeCentreline centreline = BuildTubeCentreline(
+      sections, Eigen::Vector3d::Zero(), straight.start + 0.3 * kinked, Eigen::Vector3d::UnitX());
+  ASSERT_GE(centreline.points.size(), 4u);
+  const double junction_arc = centreline.arc_m[centreline.points.size() - 2];
+
+  auto ring = [&](const CentrelineFrame& frame, double phi) {
+    return Eigen::Vector3d(frame.point + frame.radius_m * (std::cos(phi) * frame.normal -
+                                                           std::sin(phi) * frame.binormal));
+  };
+  // The worst step ahead (metres along the earlier ring's tangent) from one ring to the next,
+  // 0.5 mm apart, over 5 cm either side of the junction and 72 clock angles.
+  auto worst_step = [&](auto frame_at) {
+    double worst = std::numeric_limits<double>::infinity();
+    for (double s = junction_arc - 0.05; s < junction_arc + 0.05; s += 0.0005) {
+      const CentrelineFrame here = frame_at(s), next = frame_at(s + 0.0005);
+      for (int k = 0; k < 72; ++k) {
+        const double phi = 2.0 * M_PI * k / 72;
+        worst = std::min(worst, (ring(next, phi) - here.point).dot(here.tangent));
+      }
+    }
+    return worst;
+  };
+  const double worst = worst_step([&](double s) { return CentrelineFrameAt(centreline, s); });
+  // The same rings squared to each segment's own direction fold back by centimetres (the
+  // bridging segment's tilt over the radius): the case is one that can fail.
+  const double worst_by_segments = worst_step([&](double s) {
+    CentrelineFrame frame = CentrelineFrameAt(centreline, s);
+    const int i =
+        static_cast<int>(std::upper_bound(centreline.arc_m.begin(), centreline.arc_m.end(), s) -
+                         centreline.arc_m.begin() - 1);
+    frame.tangent = (centreline.points[i + 1] - centreline.points[i]).normalized();
+    frame.normal = centreline.normals[i];
+    frame.binormal = frame.tangent.cross(frame.normal);
+    return frame;
+  });
+  std::printf("worst step %.2f mm (rings squared to the segments: %.2f mm)\n", 1000 * worst,
+              1000 * worst_by_segments);
+  EXPECT_LT(worst_by_segments, -0.005);
+  EXPECT_GT(worst, 0.0);
+  // Away from the junction the frame is the sections' own: on the straight section, its axis.
+  EXPECT_LT((CentrelineFrameAt(centreline, junction_arc + 0.15).tangent - kinked).norm(), 1e-9);
 }
 
 cv::Mat HighPass(const cv::Mat& image) {
