@@ -64,13 +64,18 @@ simulate fe190-bend90-weak tube-bend --frames 700 --seed 11 --set texture_contra
   --set specular_strength=0.6 --set noise_sigma=3 "${FISHEYE[@]}"
 simulate fe190-bend90-wander tube-bend --frames 700 --seed 13 --set lateral_offset_m=0.03 \
   --set wobble_deg=5 --set roll_deg=10 "${FISHEYE[@]}"
+# A 120-degree Kannala-Brandt camera (added 2026-12-01 after every choice; nothing was chosen on it).
+KB=(--set camera_model=kannala-brandt --set fov_deg=120)
+simulate kb120-bend90-seed1 tube-bend --frames 700 --seed 1 "${KB[@]}"
+simulate kb120-bend90-seed5 tube-bend --frames 700 --seed 5 "${KB[@]}"
+simulate kb120-bend135-seed7 tube-bend --frames 860 --seed 7 --set bend_angle_deg=135 "${KB[@]}"
 simulate steel-16in steel-16in --frames 400 --seed 1 --set out_and_back=false
 simulate steel-6in steel-6in --frames 300 --seed 1
 
 for name in bend90 bend90-seed2 bend90-seed3 bend45 bend135 bend90-r1m bend90-seed5 bend45-seed7 \
   bend135-seed7 bend90-weak bend90-weak-s17 bend90-wander fe190-bend90 fe190-bend90-seed2 \
   fe190-bend90-seed3 fe190-bend90-seed5 fe190-bend45-seed7 fe190-bend135-seed7 fe190-bend90-r1m \
-  fe190-bend90-weak fe190-bend90-wander; do
+  fe190-bend90-weak fe190-bend90-wander kb120-bend90-seed1 kb120-bend90-seed5 kb120-bend135-seed7; do
   "$P" odometry "$OUT/$name" --method ekf --out "$OUT/run-$name" -q --no-report > /dev/null 2>&1 || true
   python3 "$HERE/ekf_evaluate.py" "$OUT/$name" "$OUT/run-$name" "$name"
 done
