@@ -13,7 +13,11 @@ straight leg (z < 0.95 m) count. Prints per band of angles: the tracks kept, the
 flow ratio (the track's displacement along the true flow over the true flow; 1 is right) and the
 median and 90th percentile of the distance from the truth.
 Needs numpy, OpenCV and PyYAML (Debian: python3-numpy python3-opencv python3-yaml).
-Usage: bench/ekf_track_truth.py DATASET [--margin 22] [--frames 250] [--flat-field 0.05]
+`--warp-truth`: the next frame is this one warped by the truth instead of the rendered one (each
+pixel of the next frame takes this frame's grey value where its wall point lies here), so the
+shading moves with the wall: what Lucas-Kanade itself does, without the shading that stays put.
+Usage: bench/ekf_track_truth.py DATASET [--margin 33] [--frames 250] [--flat-field 0.023]
+       [--warp-truth]
 """
 import argparse
 import os
@@ -32,13 +36,16 @@ def main():
     parser.add_argument("--margin", type=int, default=22, help="px inside the lit view's edge")
     parser.add_argument("--frames", type=int, default=250)
     parser.add_argument("--flat-field", type=float, default=0.05)
+    parser.add_argument("--warp-truth", action="store_true",
+                        help="track into this frame warped by the truth, not the next rendered one")
     args = parser.parse_args()
     d = args.dataset
     camera, radius, truth, width, height = load_fisheye_dataset(d)
     gain = cv2.imread(f"{d}/gain_mask.png", cv2.IMREAD_UNCHANGED).astype(np.float32)
     gain /= gain.max()
     ys, xs = np.mgrid[0:height, 0:width]
-    _, theta = camera.unproject(np.stack([xs.ravel(), ys.ravel()], 1).astype(np.float64))
+    grid = np.stack([xs.ravel(), ys.ravel()], 1).astype(np.float64)
+    _, theta = camera.unproject(grid)
     view = ((theta.reshape(height, width) < np.radians(95)) & (gain >= 0.05)).astype(np.uint8)
     size = 2 * args.margin + 1
     inner = cv2.erode(view * 255, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)))
@@ -60,6 +67,11 @@ def main():
     window = (21, 21)
     for i in range(5, min(args.frames, len(truth) - 1), 10):
         a, b = corrected(i), corrected(i + 1)
+        if args.warp_truth:
+            _, source = cylinder_wall_and_next_pixels(camera, truth, radius, grid, i + 1, i)
+            source = np.nan_to_num(source.astype(np.float32), nan=-1.0)
+            b = cv2.remap(a, source[:, 0].reshape(height, width),
+                          source[:, 1].reshape(height, width), cv2.INTER_CUBIC)
         p = cv2.goodFeaturesToTrack(a, 600, 0.01, 10, mask=inner)
         if p is None:
             continue
@@ -83,7 +95,8 @@ def main():
         for k in range(len(bands) - 1):
             chosen = ok & moving & (angle >= bands[k]) & (angle < bands[k + 1])
             found[k] += list(zip(ratio[chosen], error[chosen]))
-    print(f"{d}: margin {args.margin} px, flat field {args.flat_field} of the width")
+    print(f"{d}: margin {args.margin} px, flat field {args.flat_field} of the width"
+          + (", the next frame warped by the truth" if args.warp_truth else ""))
     for k in range(len(bands) - 1):
         rows = np.array(found[k])
         label = f"{bands[k]:3d}-{bands[k + 1]:3d} deg"

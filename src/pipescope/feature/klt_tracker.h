@@ -43,8 +43,8 @@ struct KltTrackerOptions {
   // tube-bend at half a window, the tracks 10-12 px inside the edge (90-91 degrees off the axis)
   // moved a median 0.03 of the true flow; a window's width keeps them out. One and a half: the
   // tracks between one and one and a half windows in (85-90 degrees) still fell 1-2 % short of the
-  // true flow, where the gain mask falls steeply to the edge and leaves its shading, which put
-  // the distances 0.8-1.4 % short (docs/ekf.md).
+  // true flow, where the gain mask falls steeply to the edge (the shading it leaves, or the dark
+  // rim it multiplies), which put the distances 0.8-1.4 % short (docs/ekf.md).
   double view_margin_windows = 1.5;
 };
 
