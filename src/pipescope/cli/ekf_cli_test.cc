@@ -49,6 +49,11 @@ TEST_F(EkfCli, WritesSectionsCentrelineAndMosaic) {
   EXPECT_LT(metrics["distance_error_pct"].get<double>(), 3.0);
   const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
   EXPECT_EQ(report["method"], "ekf");
+  // Looking down the tube "by the view" comes to bending sections, one radius of look-ahead and
+  // a flat field of 0.1 rad: 16 px at the 320 x 240 pinhole camera's 160 px a radian.
+  EXPECT_DOUBLE_EQ(report["chosen_by_the_view"]["curvature_sigma_radii"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(report["chosen_by_the_view"]["spawn_lookahead_radii"].get<double>(), 1.0);
+  EXPECT_NEAR(report["chosen_by_the_view"]["flat_field_sigma_px"].get<double>(), 16.0, 1e-6);
   ASSERT_GE(report["sections"].size(), 1u);
   const nlohmann::json& first = report["sections"][0];
   // The run's frame is the first section's: Z along its axis.

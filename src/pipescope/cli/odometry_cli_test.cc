@@ -123,6 +123,11 @@ TEST_F(OdometryCli, WithoutMethodChoosesForTheSetUp) {
   // The filter measured the camera's direction of travel: along image x, across the optical axis.
   EXPECT_EQ(report["options"]["axis_along_tube"], "auto");
   EXPECT_EQ(report["axis_along_tube"], "x") << report["travel_direction"].dump();
+  // What "by the view" came to for a wall-looking camera: straight sections, two radii of
+  // look-ahead, the frame itself tracked.
+  EXPECT_EQ(report["chosen_by_the_view"]["curvature_sigma_radii"], 0.0);
+  EXPECT_EQ(report["chosen_by_the_view"]["spawn_lookahead_radii"], 2.0);
+  EXPECT_EQ(report["chosen_by_the_view"]["flat_field_sigma_px"], 0.0);
   EXPECT_EQ(report["wall_distance"]["method_measures"], true);
   EXPECT_EQ(report["quality"]["verdict"], "reliable") << report["quality"].dump();
   const nlohmann::json metrics = nlohmann::json::parse(ReadTextFile(wide + "/metrics.json"));

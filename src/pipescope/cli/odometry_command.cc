@@ -334,6 +334,10 @@ int RunEkfOdometry(const OdometryFlags& flags) {
     report.Warn("the run is up to scale (metric: false); distances are in units of the radius");
   }
   report.Extra("axis_along_tube") = result.axis_along_tube;
+  report.Extra("chosen_by_the_view") = {
+      {"curvature_sigma_radii", result.chosen.curvature_sigma_radii},
+      {"spawn_lookahead_radii", result.chosen.spawn_lookahead_radii},
+      {"flat_field_sigma_px", result.chosen.flat_field_sigma_px}};
   if (result.travel) {
     const TravelDirection& travel = *result.travel;
     report.Extra("travel_direction") = {

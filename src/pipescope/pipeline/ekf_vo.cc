@@ -134,6 +134,8 @@ EkfVoResult RunEkfVo(const DatasetManifest& manifest, const Camera& camera,
                                               ? kFlatFieldSigmaRad * camera.PixelsPerRadianOnAxis()
                                               : 0.0;
   }
+  result.chosen = {filter_options.curvature_sigma_radii, filter_options.spawn_lookahead_radii,
+                   tracker_options.flat_field_sigma_px};
   KltTracker tracker(tracker_options);
   tracker.SetViewMask(view);
   std::optional<TubularEkf> filter;

@@ -83,6 +83,12 @@ struct EkfVoResult {
   std::string axis_along_tube;
   Eigen::Vector3d axis_in_camera = Eigen::Vector3d::UnitZ();  // that axis, unit
   std::optional<TravelDirection> travel;
+  // What the options left at -1 ("by the view") came to for this camera and mount.
+  struct ChosenByTheView {
+    double curvature_sigma_radii = 0.0;
+    double spawn_lookahead_radii = 0.0;
+    double flat_field_sigma_px = 0.0;
+  } chosen;
   // Every frame the filter went through, world_from_cam, in the first section's frame: Z along
   // its axis, the origin the first camera's foot on it, X towards phi = 0 (the pipe's up when the
   // dataset gives it, else the first camera's -y).
