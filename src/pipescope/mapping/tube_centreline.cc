@@ -159,9 +159,10 @@ CentrelineFrame CentrelineFrameAt(const TubeCentreline& centreline, double arc_m
   auto towards_bisector = [&](int vertex, double distance, const Eigen::Vector3d& own) {
     if (vertex <= 0 || vertex >= static_cast<int>(centreline.points.size()) - 1) return;
     if (distance >= reach) return;
-    const Eigen::Vector3d bisector =
-        (centreline.tangents_in[vertex] + centreline.tangents_out[vertex]).normalized();
-    tangent += (1.0 - distance / reach) * (bisector - own);
+    const Eigen::Vector3d sum = centreline.tangents_in[vertex] + centreline.tangents_out[vertex];
+    // A camera that turned back starts a section the other way: no bisector, no mitre.
+    if (sum.norm() < 1e-6) return;
+    tangent += (1.0 - distance / reach) * (sum.normalized() - own);
   };
   towards_bisector(segment, t, start);
   towards_bisector(segment + 1, length - t, end);

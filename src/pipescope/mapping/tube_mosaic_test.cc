@@ -143,6 +143,24 @@ TEST(TubeCentreline, RingsDoNotFoldBackAtAnOffsetKinkedJunction) {
   EXPECT_LT((CentrelineFrameAt(centreline, junction_arc + 0.15).tangent - kinked).norm(), 1e-9);
 }
 
+// A camera that turned back in a straight pipe: the second section runs the other way. The
+// frames near the junction stay defined (the two tangents have no bisector).
+TEST(TubeCentreline, FramesStayDefinedWhereTheCameraTurnedBack) {
+  const std::vector<TubeSection> sections = {
+      Section(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.1),
+      Section(Eigen::Vector3d(0, 0, 1), -Eigen::Vector3d::UnitZ(), 0.1)};
+  const TubeCentreline centreline = BuildTubeCentreline(
+      sections, Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d::UnitX());
+  std::vector<double> arcs = centreline.arc_m;  // the junction itself, where the two meet
+  for (double s = 0.0; s <= centreline.Length(); s += 0.01) arcs.push_back(s);
+  for (const double s : arcs) {
+    const CentrelineFrame frame = CentrelineFrameAt(centreline, s);
+    EXPECT_TRUE(frame.tangent.allFinite() && frame.normal.allFinite()) << "at " << s;
+    EXPECT_NEAR(frame.tangent.norm(), 1.0, 1e-9) << "at " << s;
+    EXPECT_NEAR(frame.normal.dot(frame.tangent), 0.0, 1e-9) << "at " << s;
+  }
+}
+
 cv::Mat HighPass(const cv::Mat& image) {
   cv::Mat blurred;
   cv::GaussianBlur(image, blurred, cv::Size(), 4.0);
