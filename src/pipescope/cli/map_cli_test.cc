@@ -31,15 +31,6 @@ int CountPoses(const std::string& path) {
   return count;
 }
 
-// The pose of a trajectory at `timestamp` (to 1 ms).
-StampedPose PositionPose(const Trajectory& trajectory, double timestamp) {
-  for (const StampedPose& pose : trajectory) {
-    if (std::abs(pose.timestamp - timestamp) < 1e-3) return pose;
-  }
-  ADD_FAILURE() << "no pose at " << timestamp;
-  return {};
-}
-
 // A dense-map piece's cylinder as run.json `dense_map.pieces[]` describes it.
 DenseMapCylinder PieceCylinder(const nlohmann::json& report, const nlohmann::json& piece) {
   const auto vector = [](const nlohmann::json& v) {
@@ -227,101 +218,49 @@ TEST_F(MapCli, OverlappedOdometryGivesTheSequentialPoses) {
 }
 
 // 001 §IV-B: the dense map's grey values follow the simulator's albedo on the straight wall
-// (80 frames at full size: the half-size frames of the tests above map 11 % short). The map's
-// cells are placed in the scene through the first key frame's true and estimated poses, the
-// albedo read there, and both high-passed (6 mm Gaussian: the LEDs' shading is
-// broader) before they are correlated.
+// (80 frames at full size: the half-size frames of the tests above map 11 % short), scored by
+// `pipescope evaluate --dense-map` (eval/dense_map_agreement.h: the piece placed in the scene
+// through its middle key frame's true and estimated poses, both high-passed at 2 cm, at the
+// best whole-cell shift). Issue 23 asks for 0.8 on the straight sections.
 TEST(MapCliDense, DenseMapFollowsTheWallsAlbedo) {
   const std::filesystem::path dir = MakeTestDirectory("map_dense");
-  const std::vector<std::string> settings = {"layout=straight", "length_m=2", "speed_m_s=0.075"};
-  std::string set_flags;
-  for (const std::string& setting : settings) set_flags += " --set " + setting;
-  const CommandResult simulate =
-      RunPipescope("simulate --preset fiberglass-network --out " + (dir / "ds").string() +
-                   " --frames 80" + set_flags + " -q");
+  const CommandResult simulate = RunPipescope(
+      "simulate --preset fiberglass-network --out " + (dir / "ds").string() +
+      " --frames 80 --set layout=straight --set length_m=2 --set speed_m_s=0.075 -q");
   ASSERT_EQ(simulate.exit_status, 0) << simulate.output;
   WriteTextFileAtomically(dir / "config.yaml", "window_threads: 1\n");
   const std::string run = (dir / "run").string();
   const CommandResult mapped = RunPipescope("map " + (dir / "ds").string() + " --out " + run +
                                             " --config " + (dir / "config.yaml").string() + " -q");
   ASSERT_EQ(mapped.exit_status, 0) << mapped.output;
-  const nlohmann::json report = nlohmann::json::parse(ReadTextFile(run + "/run.json"));
-  ASSERT_EQ(report["dense_map"]["pieces"].size(), 1u) << report["dense_map"].dump();
-  const nlohmann::json& piece = report["dense_map"]["pieces"][0];
-  const DenseMapCylinder cylinder = PieceCylinder(report, piece);
-  const double spacing = report["dense_map"]["spacing_m"].get<double>();
-  const DenseMapGrid grid(cylinder, spacing);
-  cv::Mat map = cv::imread(run + "/dense_section_0.png", cv::IMREAD_GRAYSCALE);
-  ASSERT_EQ(map.rows, grid.rows());
-  ASSERT_EQ(map.cols, grid.cols());
-  map.convertTo(map, CV_32F);
+  const std::string metrics_path = (dir / "dense_metrics.json").string();
+  const CommandResult evaluated = RunPipescope(
+      "evaluate --gt " + (dir / "ds" / "groundtruth.tum").string() + " --est " + run +
+      "/trajectory.tum --dense-map " + run + " --simulation " +
+      (dir / "ds" / "simulation.yaml").string() + " --json " + metrics_path + " -q");
+  ASSERT_EQ(evaluated.exit_status, 0) << evaluated.output;
+  EXPECT_NE(evaluated.output.find("straight pieces: median"), std::string::npos)
+      << evaluated.output;
+  const nlohmann::json dense = nlohmann::json::parse(ReadTextFile(metrics_path))["dense_map"];
+  ASSERT_EQ(dense["pieces"].size(), 1u) << dense.dump();
+  const nlohmann::json& piece = dense["pieces"][0];
+  EXPECT_EQ(piece["part"], "straight");
+  EXPECT_GT(piece["cells"].get<int>(), 10000);
+  EXPECT_FALSE(piece["shift_at_limit"].get<bool>()) << piece.dump();
+  RecordProperty("correlation", std::to_string(piece["correlation"].get<double>()));
+  // Measured 0.86 (0.47 when the map was built, 2026-11-27, before the features were followed by
+  // Lucas-Kanade); a map whose cells were misplaced (a mirrored angle, a wrong axis)
+  // correlates near 0 (eval_test).
+  EXPECT_GE(piece["correlation"].get<double>(), 0.8) << piece.dump();
+  EXPECT_DOUBLE_EQ(dense["straight_worst_correlation"].get<double>(),
+                   piece["correlation"].get<double>());
 
-  SimulationConfig config = PresetConfig("fiberglass-network");
-  SetConfigValue(&config, "frames=80");
-  for (const std::string& setting : settings) SetConfigValue(&config, setting);
-  const Simulation simulation(config);
-  const Trajectory keyframes = ReadTumTrajectory(run + "/keyframes.tum");
-  const StampedPose first =
-      PositionPose(ReadTumTrajectory(dir / "ds" / "groundtruth.tum"), keyframes.front().timestamp);
-  // The run's frame is where the first key frame was first placed; the windows may since
-  // have turned that pose a little, so the map goes into the scene through both poses.
-  const auto isometry = [](const StampedPose& pose) {
-    Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
-    result.linear() = pose.rotation.toRotationMatrix();
-    result.translation() = pose.position;
-    return result;
-  };
-  const Eigen::Isometry3d scene_from_run = isometry(first) * isometry(keyframes.front()).inverse();
-  // The straight layout's pipe runs along +Z from the origin, phi = atan2(Y, X) (scene.h).
-  const double radius = cylinder.radius_m;
-  cv::Mat albedo(map.size(), CV_32F);
-  for (int row = 0; row < grid.rows(); ++row) {
-    for (int col = 0; col < grid.cols(); ++col) {
-      const Eigen::Vector3d p = scene_from_run * grid.CellPoint(row, col);
-      double phi = std::atan2(p.y(), p.x());
-      if (phi < 0) phi += 2 * M_PI;
-      albedo.at<float>(row, col) =
-          simulation.texture().Albedo(0, p.z(), radius * phi, 2 * M_PI * radius, spacing);
-    }
-  }
-  const auto high_pass = [](const cv::Mat& image) {
-    cv::Mat low;
-    cv::GaussianBlur(image, low, cv::Size(0, 0), 10.0);
-    return cv::Mat(image - low);
-  };
-  // Cells whose whole 13 x 13 neighbourhood was seen, so the blur mixes in no unseen black.
-  cv::Mat seen = map > 0, inner;
-  cv::erode(seen, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(13, 13)));
-  const cv::Mat a = high_pass(map), b = high_pass(albedo);
-  // The map is registered to the albedo by the shift (whole cells, up to 1.6 cm either way)
-  // that correlates best: what is measured is the map's appearance, not the odometry's drift
-  // of a few millimetres over the run, which the other tests measure.
-  double correlation = -1.0;
-  int best_rows = 0, best_cols = 0, n = 0;
-  for (int dr = -8; dr <= 8; ++dr) {
-    for (int dc = -8; dc <= 8; ++dc) {
-      double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-      int count = 0;
-      for (int row = std::max(0, -dr); row < std::min(map.rows, map.rows - dr); ++row) {
-        for (int col = 0; col < map.cols; ++col) {
-          if (!inner.at<uchar>(row, col)) continue;
-          const double x = a.at<float>(row, col);
-          const double y = b.at<float>(row + dr, (col + dc + map.cols) % map.cols);
-          sa += x, sb += y, saa += x * x, sbb += y * y, sab += x * y, ++count;
-        }
-      }
-      const double c =
-          (sab - sa * sb / count) / std::sqrt((saa - sa * sa / count) * (sbb - sb * sb / count));
-      if (c > correlation) correlation = c, best_rows = dr, best_cols = dc, n = count;
-    }
-  }
-  ASSERT_GT(n, 10000);
-  EXPECT_LT(std::abs(best_rows), 8);  // the best shift lies inside the search, not at its edge
-  EXPECT_LT(std::abs(best_cols), 8);
-  RecordProperty("correlation", std::to_string(correlation));
-  // Measured 0.47; issue 23's target is 0.8, not reached (docs/fisheye_mapping.md). A map whose
-  // cells were misplaced (a mirrored angle, a wrong axis) correlates near 0.
-  EXPECT_GE(correlation, 0.35) << n << " cells";
+  // The flags go together, and the error names them.
+  const CommandResult alone = RunPipescope("evaluate --gt " +
+                                           (dir / "ds" / "groundtruth.tum").string() + " --est " +
+                                           run + "/trajectory.tum --dense-map " + run + " -q");
+  EXPECT_EQ(alone.exit_status, 2);
+  EXPECT_NE(alone.output.find("--simulation"), std::string::npos) << alone.output;
   std::filesystem::remove_all(dir);
 }
 

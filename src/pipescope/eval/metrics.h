@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,27 @@ struct JunctionDistance {
   double est_m = 0;
   double error_m = 0;    // est_m - gt_m, signed.
   double error_pct = 0;  // 100 |error_m| / gt_m.
+};
+
+// How well a dense appearance map's grey values follow the simulated wall's albedo, after a
+// high-pass, at the whole-cell shift that correlates best (eval/dense_map_agreement.h).
+struct DenseMapAgreement {
+  double correlation = std::numeric_limits<double>::quiet_NaN();
+  int cells = 0;  // map cells compared at the best shift
+  int shift_rows = 0;  // along the axis
+  int shift_cols = 0;  // around it
+  // The best shift lies on the search's edge: the map may be misplaced by more than the search
+  // covers, and the correlation then says little about its appearance.
+  bool shift_at_limit = false;
+};
+
+// One piece of a `map` run's dense appearance map against the simulated albedo.
+struct DensePieceAgreement {
+  int piece = 0;  // index in run.json dense_map.pieces
+  int section = 0;
+  std::string part;  // straight, t-red or t-blue
+  int keyframes_used = 0;
+  DenseMapAgreement agreement;
 };
 
 // Everything metrics.json holds (GUIDE §4). Optional fields are null in JSON when unset.
@@ -58,6 +80,9 @@ struct Metrics {
 
   // Set when junctions were evaluated (networks).
   std::optional<std::vector<JunctionDistance>> junction_distances;
+
+  // Set when a simulated run's dense map was evaluated (`evaluate --dense-map`).
+  std::optional<std::vector<DensePieceAgreement>> dense_map;
 };
 
 }  // namespace pipescope

@@ -1,7 +1,9 @@
 #include "pipescope/eval/metrics_report.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -29,6 +31,47 @@ std::string PadRight(const std::string& text, std::size_t width) {
 
 std::string PadLeft(const std::string& text, std::size_t width) {
   return std::string(width > text.size() ? width - text.size() : 0, ' ') + text;
+}
+
+// `cells`' rows as lines, each column as wide as its widest cell, the first `left_aligned`
+// columns (names) left-aligned and the rest (numbers) right-aligned.
+std::string AlignedRows(const std::vector<std::vector<std::string>>& cells,
+                        std::size_t left_aligned) {
+  std::vector<std::size_t> widths;
+  for (const auto& row : cells) {
+    widths.resize(std::max(widths.size(), row.size()), 0);
+    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+  }
+  std::string text;
+  for (const auto& row : cells) {
+    std::string line;
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      line += "  " + (c < left_aligned ? PadRight(row[c], widths[c]) : PadLeft(row[c], widths[c]));
+    }
+    text += line + "\n";
+  }
+  return text;
+}
+
+// The straight pieces' correlations: their median and the worst (lowest); NaN without any.
+std::pair<double, double> StraightMedianAndWorst(const std::vector<DensePieceAgreement>& pieces) {
+  std::vector<double> values;
+  for (const DensePieceAgreement& piece : pieces) {
+    if (piece.part == "straight" && !std::isnan(piece.agreement.correlation)) {
+      values.push_back(piece.agreement.correlation);
+    }
+  }
+  if (values.empty()) {
+    return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  }
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+  return {median, values.front()};
+}
+
+nlohmann::json NumberOrNull(double value) {
+  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
 }
 
 }  // namespace
@@ -65,6 +108,26 @@ nlohmann::json MetricsToJson(const Metrics& metrics) {
                                             {"error_m", distance.error_m},
                                             {"error_pct", distance.error_pct}});
     }
+  }
+  json["dense_map"] = nullptr;
+  if (metrics.dense_map) {
+    nlohmann::json pieces = nlohmann::json::array();
+    for (const DensePieceAgreement& piece : *metrics.dense_map) {
+      const DenseMapAgreement& a = piece.agreement;
+      pieces.push_back({{"piece", piece.piece},
+                        {"section", piece.section},
+                        {"part", piece.part},
+                        {"keyframes_used", piece.keyframes_used},
+                        {"correlation", NumberOrNull(a.correlation)},
+                        {"cells", a.cells},
+                        {"shift_rows", a.shift_rows},
+                        {"shift_cols", a.shift_cols},
+                        {"shift_at_limit", a.shift_at_limit}});
+    }
+    const auto [median, worst] = StraightMedianAndWorst(*metrics.dense_map);
+    json["dense_map"] = {{"pieces", pieces},
+                         {"straight_median_correlation", NumberOrNull(median)},
+                         {"straight_worst_correlation", NumberOrNull(worst)}};
   }
   return json;
 }
@@ -114,21 +177,29 @@ std::string MetricsToTable(const Metrics& metrics) {
                        Format("%.4f", distance.est_m), Format("%+.4f", distance.error_m),
                        Format("%.3f", distance.error_pct)});
     }
-    std::vector<std::size_t> widths(header.size(), 0);
-    for (const auto& row : cells) {
-      for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
-    }
     table += "junction_distances";
     table += metrics.junction_distances->empty() ? ": none\n" : "\n";
-    if (!metrics.junction_distances->empty()) {
-      for (const auto& row : cells) {
-        std::string line;
-        // Names left-aligned, numbers right-aligned.
-        for (std::size_t c = 0; c < row.size(); ++c) {
-          line += "  " + (c < 2 ? PadRight(row[c], widths[c]) : PadLeft(row[c], widths[c]));
-        }
-        table += line + "\n";
-      }
+    if (!metrics.junction_distances->empty()) table += AlignedRows(cells, 2);
+  }
+  if (metrics.dense_map) {
+    std::vector<std::vector<std::string>> cells = {
+        {"piece", "part", "section", "key_frames", "correlation", "cells", "shift"}};
+    for (const DensePieceAgreement& piece : *metrics.dense_map) {
+      const DenseMapAgreement& a = piece.agreement;
+      cells.push_back({std::to_string(piece.piece), piece.part, std::to_string(piece.section),
+                       std::to_string(piece.keyframes_used),
+                       std::isnan(a.correlation) ? "-" : Format("%.3f", a.correlation),
+                       std::to_string(a.cells),
+                       std::to_string(a.shift_rows) + "," + std::to_string(a.shift_cols) +
+                           (a.shift_at_limit ? " (at the search's edge)" : "")});
+    }
+    const auto [median, worst] = StraightMedianAndWorst(*metrics.dense_map);
+    table += "dense_map (correlation with the simulated albedo after a high-pass)";
+    table += metrics.dense_map->empty() ? ": no pieces\n" : "\n";
+    if (!metrics.dense_map->empty()) table += AlignedRows(cells, 2);
+    if (!std::isnan(median)) {
+      table += "  straight pieces: median " + Format("%.3f", median) + ", worst " +
+               Format("%.3f", worst) + "\n";
     }
   }
   return table;

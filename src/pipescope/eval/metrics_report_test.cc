@@ -14,7 +14,7 @@ const std::set<std::string> kMetricsKeys = {
     "ate_rmse_m",        "ate_max_m",          "rot_rmse_deg",
     "rot_max_deg",       "alignment",          "scale",
     "rpe_1m_pct",        "junction_distances", "path_gt_m",
-    "path_est_m",        "path_error_pct"};
+    "path_est_m",        "path_error_pct",     "dense_map"};
 
 std::set<std::string> Keys(const nlohmann::json& json) {
   std::set<std::string> keys;
@@ -46,7 +46,7 @@ TEST(MetricsReport, OneWayJsonHasAllKeysWithNullsWhereNotApplicable) {
   EXPECT_EQ(json["alignment"], "se3");
   EXPECT_DOUBLE_EQ(json["rpe_1m_pct"].get<double>(), 0.75);
   for (const char* key : {"forward_error_pct", "reverse_error_pct", "return_error_pct", "scale",
-                          "junction_distances"}) {
+                          "junction_distances", "dense_map"}) {
     EXPECT_TRUE(json[key].is_null()) << key;
   }
 }
@@ -89,6 +89,32 @@ TEST(MetricsReport, OneWayTableLeavesOutLegErrors) {
   EXPECT_NE(table.find("ate_rmse_m          0.0120 m"), std::string::npos) << table;
   EXPECT_EQ(table.find("forward_error_pct"), std::string::npos) << table;
   EXPECT_EQ(table.find("junction_distances"), std::string::npos) << table;
+  EXPECT_EQ(table.find("dense_map"), std::string::npos) << table;
+}
+
+// A dense map's pieces: each with its agreement, a piece without enough cells null, and the
+// straight pieces' median and worst (the T's piece is not among them).
+TEST(MetricsReport, DenseMapPiecesAndTheirStraightSummary) {
+  Metrics metrics = OneWay();
+  DenseMapAgreement good{0.9, 5000, 1, -2, false}, fair{0.7, 4000, 0, 0, false},
+      at_edge{0.5, 3000, 8, 0, true};
+  metrics.dense_map = std::vector<DensePieceAgreement>{
+      {0, 0, "straight", 40, good}, {1, 0, "straight", 38, fair}, {2, 1, "t-red", 9, at_edge},
+      {3, 2, "straight", 2, DenseMapAgreement{}}};
+  const nlohmann::json json = MetricsToJson(metrics);
+  EXPECT_EQ(Keys(json), kMetricsKeys);
+  const nlohmann::json& dense = json["dense_map"];
+  ASSERT_EQ(dense["pieces"].size(), 4u);
+  EXPECT_EQ(dense["pieces"][1]["part"], "straight");
+  EXPECT_DOUBLE_EQ(dense["pieces"][1]["correlation"].get<double>(), 0.7);
+  EXPECT_EQ(dense["pieces"][0]["shift_cols"], -2);
+  EXPECT_TRUE(dense["pieces"][2]["shift_at_limit"].get<bool>());
+  EXPECT_TRUE(dense["pieces"][3]["correlation"].is_null());
+  EXPECT_DOUBLE_EQ(dense["straight_median_correlation"].get<double>(), 0.8);
+  EXPECT_DOUBLE_EQ(dense["straight_worst_correlation"].get<double>(), 0.7);
+  const std::string table = MetricsToTable(metrics);
+  EXPECT_NE(table.find("straight pieces: median 0.800, worst 0.700"), std::string::npos) << table;
+  EXPECT_NE(table.find("8,0 (at the search's edge)"), std::string::npos) << table;
 }
 
 }  // namespace
