@@ -58,6 +58,11 @@ PY
     "$P" evaluate --gt "$2/groundtruth.tum" --est "$1/trajectory.tum" --scene "$2/scene.yaml" \
       --junctions "$1/junctions.yaml" | sed -n '/junction_distances/,$p'
   fi
+  if [ -f "$1/run.json" ] && grep -q '"pieces"' "$1/run.json" && [ -f "$2/simulation.yaml" ]; then
+    # issue 23: the dense map's grey values against the simulated albedo, per piece
+    "$P" evaluate --gt "$2/groundtruth.tum" --est "$1/trajectory.tum" --dense-map "$1" \
+      --simulation "$2/simulation.yaml" | sed -n '/dense_map/,$p'
+  fi
 }
 if [ "$WHICH" = head ]; then
   simulate_straight "$P" "$OUT"

@@ -40,20 +40,28 @@ cv::Mat HighPassOverValid(const cv::Mat& image, const cv::Mat& valid, double sig
 
 }  // namespace
 
-cv::Mat SimulatedAlbedoUnderGrid(const DenseMapGrid& grid, const Eigen::Isometry3d& scene_from_map,
-                                 const Eigen::Vector3d& viewpoint, const Simulation& simulation) {
+cv::Mat SimulatedAlbedoUnderGrid(const DenseMapGrid& grid,
+                                 const std::vector<GridRowPlacement>& rows,
+                                 const Simulation& simulation, double max_miss_m) {
+  if (static_cast<int>(rows.size()) != grid.rows()) {
+    throw InputError("dense map: " + std::to_string(rows.size()) + " row placements for " +
+                     std::to_string(grid.rows()) + " grid rows");
+  }
   const Scene& scene = simulation.layout().scene;
   const WallTexture& texture = simulation.texture();
   const double footprint = grid.axial_step_m();
   cv::Mat albedo(grid.rows(), grid.cols(), CV_32F);
   for (int row = 0; row < grid.rows(); ++row) {
+    const GridRowPlacement& placement = rows[row];
     for (int col = 0; col < grid.cols(); ++col) {
+      const Eigen::Vector3d point = placement.scene_from_map * grid.CellPoint(row, col);
       Ray ray;
-      ray.origin = viewpoint;
-      ray.direction = (scene_from_map * grid.CellPoint(row, col) - viewpoint).normalized();
+      ray.origin = placement.viewpoint;
+      ray.direction = (point - placement.viewpoint).normalized();
       WallHit hit;
       float value = std::numeric_limits<float>::quiet_NaN();
-      if (ray.direction.allFinite() && scene.Intersect(ray, &hit)) {
+      if (ray.direction.allFinite() && scene.Intersect(ray, &hit) &&
+          (hit.point - point).norm() <= max_miss_m) {
         const double circumference = 2.0 * M_PI * scene.sections()[hit.section].radius;
         value = texture.Albedo(hit.section, hit.h_m, hit.s_m, circumference, footprint);
       }

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipescope/eval/metrics.h"
 #include "pipescope/mapping/dense_appearance_map.h"
@@ -23,12 +24,23 @@ struct DenseMapAgreementOptions {
 };
 
 
+// Where one row of a grid goes into the scene (`scene_from_map`), and the point inside the pipe
+// (scene frame) its cells are looked at from.
+struct GridRowPlacement {
+  Eigen::Isometry3d scene_from_map = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+};
+
 // The albedo under each cell of `grid` as the simulator renders it: the wall point where the
-// ray from `viewpoint` (scene frame, inside the pipe) through the cell's point, taken into the
-// scene by `scene_from_map`, leaves the pipe, filtered to the grid's spacing. CV_32F, NaN
-// where the ray leaves through an open end.
-cv::Mat SimulatedAlbedoUnderGrid(const DenseMapGrid& grid, const Eigen::Isometry3d& scene_from_map,
-                                 const Eigen::Vector3d& viewpoint, const Simulation& simulation);
+// ray from its row's viewpoint through the cell's point, taken into the scene by its row's
+// placement (`rows`, one per grid row), leaves the pipe, filtered to the grid's spacing. CV_32F,
+// NaN where the ray leaves through an open end, or meets the wall farther than `max_miss_m` from
+// the cell's point: there the map's cylinder has no wall (a T's opening into the other pipe),
+// and what the map shows is seen through it from elsewhere. Throws InputError unless there is a
+// placement per row.
+cv::Mat SimulatedAlbedoUnderGrid(const DenseMapGrid& grid,
+                                 const std::vector<GridRowPlacement>& rows,
+                                 const Simulation& simulation, double max_miss_m = 0.02);
 
 // Correlates the high-passed map `grey` (CV_8U or CV_32F on `grid`; 0 or NaN where no key frame
 // saw the cell) with the high-passed `albedo` (SimulatedAlbedoUnderGrid) over the cells seen,

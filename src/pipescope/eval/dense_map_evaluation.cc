@@ -5,6 +5,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "pipescope/util/error.h"
 
@@ -81,24 +82,43 @@ std::vector<DensePieceAgreement> EvaluateDenseMap(const std::filesystem::path& r
       next_row[section] = first_row + grid.rows();
       const cv::Mat grey = mosaic->second.rowRange(first_row, first_row + grid.rows());
 
+      // Each row goes into the scene through the key frame of the piece nearest it along the
+      // axis, and is looked at from that key frame's true position: the map placed locally, as
+      // a camera there saw it, so the odometry's drift over the piece (a few millimetres, which
+      // the trajectory's metrics measure) and the fitted axis's tilt, which turns into a shift
+      // along the pipe where the wall is seen at a grazing angle, do not count as appearance.
       const int first = piece.at("first_keyframe").get<int>();
       const int last = piece.at("last_keyframe").get<int>();
-      const int middle = (first + last) / 2;
-      if (middle < 0 || middle >= static_cast<int>(keyframes.size())) {
+      if (first < 0 || last < first || last >= static_cast<int>(keyframes.size())) {
         throw InputError(report_path.string() + ": dense_map piece " + std::to_string(index) +
-                         " names key frame " + std::to_string(middle) + " of " +
-                         std::to_string(keyframes.size()) + " in keyframes.tum");
+                         " names key frames " + std::to_string(first) + "-" +
+                         std::to_string(last) + " of " + std::to_string(keyframes.size()) +
+                         " in keyframes.tum");
       }
-      const StampedPose& estimated = keyframes[middle];
-      const StampedPose* truth = PoseAt(ground_truth, estimated.timestamp, max_dt_s);
-      if (truth == nullptr) {
-        throw InputError("--gt: no pose within " + std::to_string(max_dt_s) + " s of key frame " +
-                         std::to_string(middle) + " (t = " + std::to_string(estimated.timestamp) +
-                         " s)");
+      std::vector<double> along;  // each key frame's estimated position along the piece's axis
+      std::vector<GridRowPlacement> placements;
+      for (int k = first; k <= last; ++k) {
+        const StampedPose& estimated = keyframes[k];
+        const StampedPose* truth = PoseAt(ground_truth, estimated.timestamp, max_dt_s);
+        if (truth == nullptr) {
+          throw InputError("--gt: no pose within " + std::to_string(max_dt_s) +
+                           " s of key frame " + std::to_string(k) +
+                           " (t = " + std::to_string(estimated.timestamp) + " s)");
+        }
+        along.push_back((estimated.position - grid.axis_point()).dot(grid.axis_direction()));
+        placements.push_back(
+            {ToIsometry(*truth) * ToIsometry(estimated).inverse(), truth->position});
       }
-      const Eigen::Isometry3d scene_from_map = ToIsometry(*truth) * ToIsometry(estimated).inverse();
-      const cv::Mat albedo =
-          SimulatedAlbedoUnderGrid(grid, scene_from_map, truth->position, simulation);
+      std::vector<GridRowPlacement> rows;
+      for (int row = 0; row < grid.rows(); ++row) {
+        const double s = grid.AxialPositionM(row);
+        std::size_t nearest = 0;
+        for (std::size_t k = 1; k < along.size(); ++k) {
+          if (std::abs(along[k] - s) < std::abs(along[nearest] - s)) nearest = k;
+        }
+        rows.push_back(placements[nearest]);
+      }
+      const cv::Mat albedo = SimulatedAlbedoUnderGrid(grid, rows, simulation);
 
       DensePieceAgreement result;
       result.piece = static_cast<int>(index);
