@@ -91,8 +91,10 @@ DenseMapAgreement CorrelateWithAlbedo(const cv::Mat& grey, const cv::Mat& albedo
   }
   cv::Mat map;
   grey.convertTo(map, CV_32F);
-  cv::Mat map_valid = (map > 0) & (map == map);  // seen, and not NaN
-  cv::Mat albedo_valid = albedo == albedo;
+  const cv::Mat albedo_valid = albedo == albedo;
+  // Map cells seen where the wall is: a cell over a T's opening shows what lies beyond it, and
+  // its edge would leak into its neighbours' low-pass.
+  const cv::Mat map_valid = (map > 0) & (map == map) & albedo_valid;
   const double sigma_cells = options.high_pass_sigma_m / grid.axial_step_m();
   const cv::Mat a = HighPassOverValid(map, map_valid, sigma_cells);
   const cv::Mat b = HighPassOverValid(albedo, albedo_valid, sigma_cells);
