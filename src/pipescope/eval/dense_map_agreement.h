@@ -23,7 +23,6 @@ struct DenseMapAgreementOptions {
   int max_shift_cells = 8;
 };
 
-
 // Where one row of a grid goes into the scene (`scene_from_map`), and the point inside the pipe
 // (scene frame) its cells are looked at from.
 struct GridRowPlacement {
@@ -40,14 +39,14 @@ struct GridRowPlacement {
 // placement per row.
 cv::Mat SimulatedAlbedoUnderGrid(const DenseMapGrid& grid,
                                  const std::vector<GridRowPlacement>& rows,
-                                 const Simulation& simulation, double max_miss_m = 0.02);
+                                 const Simulation& simulation, double max_miss_m);
 
 // Correlates the high-passed map `grey` (CV_8U or CV_32F on `grid`; 0 or NaN where no key frame
 // saw the cell) with the high-passed `albedo` (SimulatedAlbedoUnderGrid) over the cells seen
 // where the albedo is defined, at the best shift. Each grid is high-passed by normalised
 // convolution over those of its cells (the map's: seen and over the wall), so neither the
-// unseen border nor what a T's opening shows adds an edge. Throws InputError when the sizes differ from the
-// grid's or the options are out of range; the correlation is NaN when fewer than 100 cells
+// unseen border nor what a T's opening shows adds an edge. Throws InputError when the sizes differ
+// from the grid's or the options are out of range; the correlation is NaN when fewer than 100 cells
 // overlap.
 DenseMapAgreement CorrelateWithAlbedo(const cv::Mat& grey, const cv::Mat& albedo,
                                       const DenseMapGrid& grid,

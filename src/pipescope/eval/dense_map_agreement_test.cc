@@ -37,8 +37,8 @@ class DenseMapAgreementTest : public testing::Test {
   // Every row in place, looked at from `viewpoint`.
   static std::vector<GridRowPlacement> Placements(const DenseMapGrid& grid,
                                                   const Eigen::Vector3d& viewpoint) {
-    return std::vector<GridRowPlacement>(grid.rows(),
-                                         GridRowPlacement{Eigen::Isometry3d::Identity(), viewpoint});
+    return std::vector<GridRowPlacement>(
+        grid.rows(), GridRowPlacement{Eigen::Isometry3d::Identity(), viewpoint});
   }
 
   // The albedo as a camera's grey values would carry it: gain, offset and a ramp of light
@@ -60,9 +60,8 @@ Simulation* DenseMapAgreementTest::simulation_ = nullptr;
 
 TEST_F(DenseMapAgreementTest, TheAlbedoUnderTheGridIsTheWallsAtTheCellsPoint) {
   const DenseMapGrid grid(Cylinder(), 0.002);
-  const cv::Mat albedo =
-      SimulatedAlbedoUnderGrid(grid, Placements(grid, Eigen::Vector3d(0.01, -0.02, 0.6)),
-                               *simulation_);
+  const cv::Mat albedo = SimulatedAlbedoUnderGrid(
+      grid, Placements(grid, Eigen::Vector3d(0.01, -0.02, 0.6)), *simulation_, 0.02);
   ASSERT_EQ(albedo.rows, grid.rows());
   double largest = 0;
   for (int row = 0; row < grid.rows(); row += 7) {
@@ -83,27 +82,30 @@ TEST_F(DenseMapAgreementTest, TheAlbedoUnderTheGridIsTheWallsAtTheCellsPoint) {
 TEST_F(DenseMapAgreementTest, EachRowIsPlacedByItsOwnPose) {
   const DenseMapGrid grid(Cylinder(), 0.002);
   const Eigen::Vector3d viewpoint(0, 0, 0.65);
-  const cv::Mat albedo = SimulatedAlbedoUnderGrid(grid, Placements(grid, viewpoint), *simulation_);
+  const cv::Mat albedo =
+      SimulatedAlbedoUnderGrid(grid, Placements(grid, viewpoint), *simulation_, 0.02);
   std::vector<GridRowPlacement> moved = Placements(grid, viewpoint);
   for (int row = 0; row < grid.rows(); row += 2) {
     moved[row].scene_from_map = Eigen::Translation3d(0, 0, 0.01) * Eigen::Isometry3d::Identity();
   }
-  const cv::Mat shifted = SimulatedAlbedoUnderGrid(grid, moved, *simulation_);
+  const cv::Mat shifted = SimulatedAlbedoUnderGrid(grid, moved, *simulation_, 0.02);
   double largest = 0;
   for (int row = 0; row + 5 < grid.rows(); ++row) {
     for (int col = 0; col < grid.cols(); ++col) {
       const float expected = albedo.at<float>(row % 2 == 0 ? row + 5 : row, col);
-      largest = std::max(largest, static_cast<double>(std::abs(shifted.at<float>(row, col) - expected)));
+      largest =
+          std::max(largest, static_cast<double>(std::abs(shifted.at<float>(row, col) - expected)));
     }
   }
   EXPECT_LT(largest, 1e-4);
-  EXPECT_THROW(SimulatedAlbedoUnderGrid(grid, {}, *simulation_), InputError);
+  EXPECT_THROW(SimulatedAlbedoUnderGrid(grid, {}, *simulation_, 0.02), InputError);
 
   // A grid 5 cm inside the wall meets it 5 cm or more from its cells: not the map's wall.
   DenseMapCylinder inside = Cylinder();
   inside.radius_m = 0.15;
   const DenseMapGrid narrow(inside, 0.002);
-  const cv::Mat none = SimulatedAlbedoUnderGrid(narrow, Placements(narrow, viewpoint), *simulation_);
+  const cv::Mat none =
+      SimulatedAlbedoUnderGrid(narrow, Placements(narrow, viewpoint), *simulation_, 0.02);
   EXPECT_EQ(cv::countNonZero(none == none), 0);
   const cv::Mat all =
       SimulatedAlbedoUnderGrid(narrow, Placements(narrow, viewpoint), *simulation_, 1.0);
@@ -112,8 +114,8 @@ TEST_F(DenseMapAgreementTest, EachRowIsPlacedByItsOwnPose) {
 
 TEST_F(DenseMapAgreementTest, AMapOfTheAlbedoAgreesAndItsShiftIsFound) {
   const DenseMapGrid grid(Cylinder(), 0.002);
-  const cv::Mat albedo =
-      SimulatedAlbedoUnderGrid(grid, Placements(grid, Eigen::Vector3d(0, 0, 0.65)), *simulation_);
+  const cv::Mat albedo = SimulatedAlbedoUnderGrid(
+      grid, Placements(grid, Eigen::Vector3d(0, 0, 0.65)), *simulation_, 0.02);
   // Seen only in a band of rows, the rest black, as a piece's map is at its ends.
   cv::Mat grey = AsGrey(albedo);
   grey.rowRange(0, 20).setTo(0);

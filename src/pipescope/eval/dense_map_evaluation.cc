@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "pipescope/io/association.h"
 #include "pipescope/util/error.h"
 
 namespace pipescope {
@@ -15,18 +16,6 @@ namespace {
 Eigen::Vector3d Vector(const nlohmann::json& value) {
   return Eigen::Vector3d(value.at(0).get<double>(), value.at(1).get<double>(),
                          value.at(2).get<double>());
-}
-
-const StampedPose* PoseAt(const Trajectory& trajectory, double timestamp, double max_dt_s) {
-  const StampedPose* nearest = nullptr;
-  for (const StampedPose& pose : trajectory) {
-    if (nearest == nullptr ||
-        std::abs(pose.timestamp - timestamp) < std::abs(nearest->timestamp - timestamp)) {
-      nearest = &pose;
-    }
-  }
-  if (nearest == nullptr || std::abs(nearest->timestamp - timestamp) > max_dt_s) return nullptr;
-  return nearest;
 }
 
 }  // namespace
@@ -45,6 +34,11 @@ std::vector<DensePieceAgreement> EvaluateDenseMap(const std::filesystem::path& r
     throw InputError(report_path.string() + ": not JSON: " + error.what());
   }
   const Trajectory keyframes = ReadTumTrajectory(run / "keyframes.tum");
+  // The true pose of each key frame that has one within max_dt_s.
+  std::vector<const StampedPose*> truth_of(keyframes.size(), nullptr);
+  for (const AssociatedPair& pair : AssociateByTimestamp(ground_truth, keyframes, max_dt_s)) {
+    truth_of[pair.est_index] = &ground_truth[pair.gt_index];
+  }
   std::vector<DensePieceAgreement> results;
   try {
     const nlohmann::json& dense = report.at("dense_map");
@@ -75,8 +69,7 @@ std::vector<DensePieceAgreement> EvaluateDenseMap(const std::filesystem::path& r
       if (mosaic == mosaics.end() || mosaic->second.cols != grid.cols() ||
           first_row + grid.rows() > mosaic->second.rows) {
         throw InputError(report_path.string() + ": dense_map piece " + std::to_string(index) +
-                         " (" + std::to_string(grid.rows()) + " x " +
-                         std::to_string(grid.cols()) +
+                         " (" + std::to_string(grid.rows()) + " x " + std::to_string(grid.cols()) +
                          " cells) does not fit its section's mosaic");
       }
       next_row[section] = first_row + grid.rows();
@@ -91,19 +84,18 @@ std::vector<DensePieceAgreement> EvaluateDenseMap(const std::filesystem::path& r
       const int last = piece.at("last_keyframe").get<int>();
       if (first < 0 || last < first || last >= static_cast<int>(keyframes.size())) {
         throw InputError(report_path.string() + ": dense_map piece " + std::to_string(index) +
-                         " names key frames " + std::to_string(first) + "-" +
-                         std::to_string(last) + " of " + std::to_string(keyframes.size()) +
-                         " in keyframes.tum");
+                         " names key frames " + std::to_string(first) + "-" + std::to_string(last) +
+                         " of " + std::to_string(keyframes.size()) + " in keyframes.tum");
       }
       std::vector<double> along;  // each key frame's estimated position along the piece's axis
       std::vector<GridRowPlacement> placements;
       for (int k = first; k <= last; ++k) {
         const StampedPose& estimated = keyframes[k];
-        const StampedPose* truth = PoseAt(ground_truth, estimated.timestamp, max_dt_s);
+        const StampedPose* truth = truth_of[k];
         if (truth == nullptr) {
-          throw InputError("--gt: no pose within " + std::to_string(max_dt_s) +
-                           " s of key frame " + std::to_string(k) +
-                           " (t = " + std::to_string(estimated.timestamp) + " s)");
+          throw InputError("--gt: no pose within " + std::to_string(max_dt_s) + " s of key frame " +
+                           std::to_string(k) + " (t = " + std::to_string(estimated.timestamp) +
+                           " s)");
         }
         along.push_back((estimated.position - grid.axis_point()).dot(grid.axis_direction()));
         placements.push_back(
@@ -118,7 +110,8 @@ std::vector<DensePieceAgreement> EvaluateDenseMap(const std::filesystem::path& r
         }
         rows.push_back(placements[nearest]);
       }
-      const cv::Mat albedo = SimulatedAlbedoUnderGrid(grid, rows, simulation);
+      // A cell more than a tenth of the radius off the wall it was placed on is not the wall.
+      const cv::Mat albedo = SimulatedAlbedoUnderGrid(grid, rows, simulation, 0.1 * radius);
 
       DensePieceAgreement result;
       result.piece = static_cast<int>(index);
