@@ -361,6 +361,34 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
             std::string::npos)
       << quality["position_reasons"];
   EXPECT_EQ(quality["along_pipe_verdict"], "reliable") << quality["reasons"];
+  // The starts: the chained T at seven scales (on the T from the red section's last key frame),
+  // then, on the T from P_r, the best of them at the chained phi and with phi turned eight
+  // ways; the solution kept is the second stage's start with the least score.
+  const nlohmann::json& starts = t["starts"];
+  ASSERT_EQ(starts.size(), 16u) << starts.dump();
+  double least = 1e300;
+  double best_scale = 0.0;
+  for (int k = 0; k < 7; ++k) {
+    EXPECT_EQ(starts[k]["stage"], "scale");
+    EXPECT_EQ(starts[k]["phi_offset_deg"].get<double>(), 0.0);
+    if (starts[k]["score"].get<double>() < least) {
+      least = starts[k]["score"].get<double>();
+      best_scale = starts[k]["scale"].get<double>();
+    }
+  }
+  least = 1e300;
+  double chosen_offset = 1e300;
+  for (int k = 7; k < 16; ++k) {
+    EXPECT_EQ(starts[k]["stage"], "phi");
+    EXPECT_EQ(starts[k]["scale"].get<double>(), best_scale);
+    EXPECT_EQ(starts[k]["phi_offset_deg"].get<double>() == 0.0, k == 7);
+    if (starts[k]["score"].get<double>() < least) {
+      least = starts[k]["score"].get<double>();
+      chosen_offset = starts[k]["phi_offset_deg"].get<double>();
+    }
+  }
+  EXPECT_EQ(t["start_scale"].get<double>(), best_scale);
+  EXPECT_EQ(t["start_phi_offset_deg"].get<double>(), chosen_offset);
   const nlohmann::json& red_section = report["sections"][t["section"].get<int>() - 1];
   EXPECT_LT(t["red_keyframe"].get<int>(), red_section["last_keyframe"].get<int>());
   const std::vector<Junction> junctions = ReadEstimatedJunctions(dir / "run" / "junctions.yaml");
@@ -451,6 +479,7 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   const nlohmann::json& given_t = given_report["t_intersections"][0];
   ASSERT_TRUE(given_t["adjusted"].get<bool>()) << given_t.dump();
   EXPECT_EQ(given_t["phi_source"], "given");
+  EXPECT_EQ(given_t["starts"].size(), 8u);  // phi held: the scales, then the best on the T from P_r
   EXPECT_NEAR(given_t["phi_deg"].get<double>(), 90.0, 1e-9);
   const nlohmann::json& given_reasons = given_report["quality"]["position_reasons"];
   ASSERT_EQ(given_reasons.size(), 1u) << given_report["quality"].dump();

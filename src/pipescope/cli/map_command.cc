@@ -178,11 +178,15 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
     }
     if (t.triangulated_points > 0) {
       nlohmann::json starts = nlohmann::json::array();
-      for (const auto& [scale, score] : t.start_scores) {
-        starts.push_back({{"scale", scale}, {"score", score}});
+      for (const TIntersectionRecord::StartScore& start : t.start_scores) {
+        starts.push_back({{"stage", start.stage},
+                          {"scale", start.scale},
+                          {"phi_offset_deg", start.phi_offset_deg},
+                          {"score", start.score}});
       }
       entry["starts"] = starts;
       entry["start_scale"] = t.start_scale;
+      entry["start_phi_offset_deg"] = t.start_phi_offset_deg;
       entry["points"] = t.triangulated_points;
       entry["observations"] = t.summary.observations;
       entry["outliers_removed"] = t.summary.outliers_removed;

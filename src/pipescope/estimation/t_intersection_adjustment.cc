@@ -34,11 +34,16 @@ Eigen::Vector2d Residual(const Camera& camera, const TIntersectionProblem& probl
   return Eigen::Vector2d(residual[0], residual[1]);
 }
 
+// Over the inlier observations of the points the adjustment estimates (two or more inlier
+// observations). A point the outlier removal left with one keeps its start while the poses
+// move, so its last observation says nothing about the solution: on route A's T2 75 such
+// observations at 47 px RMS raised the RMS of 47 500 others at 0.40 px to 1.9 px.
 double ImageRms(const Camera& camera, const TIntersectionProblem& problem) {
+  const std::vector<int> counts = InlierCounts(problem.observations, problem.points.size());
   double sum = 0.0;
   int count = 0;
   for (const WindowObservation& observation : problem.observations) {
-    if (!observation.inlier) continue;
+    if (!observation.inlier || counts[observation.point] < 2) continue;
     sum += Residual(camera, problem, observation).squaredNorm();
     ++count;
   }

@@ -166,9 +166,10 @@ double TIntersectionPass::FitEndCylinder(const std::vector<SparsePoint>& points,
 
 TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
     const TTracks& tracks, const TSpan& span, const std::vector<Eigen::Isometry3d>& poses,
-    const TIntersectionProblem& cylinders, double scale) const {
+    const TIntersectionProblem& cylinders, double scale, double phi_offset_deg) const {
   StartedAdjustment started;
   started.scale = scale;
+  started.phi_offset_deg = phi_offset_deg;
   std::copy(cylinders.red_cylinder, cylinders.red_cylinder + 4, started.problem.red_cylinder);
   std::copy(cylinders.blue_cylinder, cylinders.blue_cylinder + 4, started.problem.blue_cylinder);
   TIntersectionProblem& problem = started.problem;
@@ -189,6 +190,8 @@ TIntersectionPass::StartedAdjustment TIntersectionPass::AdjustFromScale(
   started.score = observations * cap_px * cap_px;
   if (!model) return started;
   std::copy(model->data(), model->data() + kTIntersectionParameters, problem.model);
+  problem.model[kPhi] = std::clamp(problem.model[kPhi] + phi_offset_deg * kDeg,
+                                   options_.min_turn_deg * kDeg, M_PI - options_.min_turn_deg * kDeg);
   if (options_.fitting_angle_deg > 0.0) {
     const double given = options_.fitting_angle_deg * kDeg;
     const double chained = problem.model[kPhi];
@@ -282,28 +285,30 @@ bool TIntersectionPass::StartModel(const TSpan& span, const std::vector<SparsePo
 std::optional<TIntersectionPass::StartedAdjustment> TIntersectionPass::BestStart(
     const KeyframeOdometry& odometry, const TSpan& span,
     const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
+    const std::vector<std::pair<double, double>>& scale_and_phi, const char* stage,
     TIntersectionRecord* record) const {
-  // The chain through a T took its step lengths from the straight section's axis, which the
-  // T's walls do not follow, so its length is off (10-11 % short on the simulated network), and
-  // an adjustment started there stays in that basin (a T 11 % short, 1.15 px); each start ends
-  // in a minimum of its own. So the adjustment starts from several scales of the chained T, and
-  // the solution that explains the T's images best is kept.
+  // Each start ends in a minimum of its own: the chain through a T took its step lengths from
+  // the straight section's axis, which the T's walls do not follow, so its length is off (10-11 %
+  // short on the simulated network), and its turn may be (11.6 degrees at route A's T2, seed
+  // 41); an adjustment started there stays in that basin. So the starts are several, and the
+  // solution that explains the T's images best is kept.
   const TTracks tracks = TracksOf(odometry, span.red, span.blue);
   // The starts are independent: they run on OpenCV's workers (both cores are free once the
   // tracking is done), each into its own slot, so the choice does not depend on the threads.
-  const int num_starts = static_cast<int>(options_.start_scales.size());
+  const int num_starts = static_cast<int>(scale_and_phi.size());
   std::vector<StartedAdjustment> starts(num_starts);
   cv::parallel_for_(
       cv::Range(0, num_starts),
       [&](const cv::Range& range) {
         for (int i = range.start; i < range.end; ++i) {
-          starts[i] = AdjustFromScale(tracks, span, poses, cylinders, options_.start_scales[i]);
+          starts[i] = AdjustFromScale(tracks, span, poses, cylinders, scale_and_phi[i].first,
+                                      scale_and_phi[i].second);
         }
       },
       num_starts);
   std::optional<StartedAdjustment> best;
   for (StartedAdjustment& started : starts) {
-    record->start_scores.emplace_back(started.scale, started.score);
+    record->start_scores.push_back({stage, started.scale, started.phi_offset_deg, started.score});
     if (!best || started.score < best->score) best = std::move(started);
   }
   if (!best || best->problem.points.size() < 20) return std::nullopt;
@@ -345,19 +350,38 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   }
   place(problem.model);
 
-  // The start is chosen on the T from its red section's last key frame: seven adjustments of
+  // The scale is chosen on the T from its red section's last key frame: seven adjustments of
   // the T alone cost a third of those with the half metre before it, and the scale they choose
-  // is that of the same stretch (scaled about that key frame either way). The T is then
-  // adjusted once more from there, with P_r red_lead_radii before it.
+  // is that of the same stretch (scaled about that key frame either way). Phi is not: from
+  // there the red end cylinder is fitted relative to a key frame the straight windows left
+  // turned, and on route A's T2 (seed 41) the turned starts scored worse than the chained one
+  // on the short T (60 481 against 52 466 at 12 degrees less) and better on the whole one
+  // (64 001 against 75 995); on the whole route phi came out 88.8 degrees, not 97.1, for a tee
+  // whose pipes meet at 90.3. So
+  // the T with P_r red_lead_radii before it is adjusted from the chosen scale at the chained
+  // phi and at each turned one.
   TIntersectionProblem choice_problem;
   TIntersectionRecord choice_record;
   const bool choose_on_short =
       choice.red != span.red && StartModel(choice, points, poses, &choice_problem, &choice_record);
+  std::vector<std::pair<double, double>> scales;
+  for (double scale : options_.start_scales) scales.emplace_back(scale, 0.0);
   std::optional<StartedAdjustment> best =
-      choose_on_short ? BestStart(odometry, choice, poses, choice_problem, &record)
-                      : BestStart(odometry, span, poses, problem, &record);
-  if (best && choose_on_short) {
-    best = AdjustFromScale(TracksOf(odometry, red, blue), span, poses, problem, best->scale);
+      choose_on_short ? BestStart(odometry, choice, poses, choice_problem, scales, "scale", &record)
+                      : BestStart(odometry, span, poses, problem, scales, "scale", &record);
+  if (best) {
+    std::vector<std::pair<double, double>> phis;
+    if (choose_on_short) phis.emplace_back(best->scale, 0.0);
+    if (options_.fitting_angle_deg <= 0.0) {
+      for (double offset : options_.start_phi_offsets_deg) phis.emplace_back(best->scale, offset);
+    }
+    if (!phis.empty()) {
+      std::optional<StartedAdjustment> turned =
+          BestStart(odometry, span, poses, problem, phis, "phi", &record);
+      // The chained phi's own score is comparable only on the same T: when the scale was chosen
+      // on the shorter one, the phi stage's own unturned start stands for it.
+      if (choose_on_short || (turned && turned->score < best->score)) best = std::move(turned);
+    }
   }
   if (!best || best->problem.points.size() < 20) {
     record.rejection = "too few points";
@@ -365,6 +389,7 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   }
   problem = std::move(best->problem);
   record.start_scale = best->scale;
+  record.start_phi_offset_deg = best->phi_offset_deg;
   record.triangulated_points = static_cast<int>(problem.points.size());
   record.summary = best->summary;
   if (!record.summary.usable) {

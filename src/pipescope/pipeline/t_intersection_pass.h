@@ -57,6 +57,12 @@ struct TIntersectionPassOptions {
   // lies farther out, so the steps come out short. (On the simulated network the chosen
   // starts were 1.2-1.4; 0.9 and 1.0 stay in case a chain comes out right or long.)
   std::vector<double> start_scales = {0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5};
+  // ... and then, at the chosen scale, from phi turned by each of these from the chained turn,
+  // keeping the least score again: an adjustment ends near the phi it starts from (the images
+  // say little about a T's angle), and the chain's turn can be far off (11.6 degrees at route
+  // A's T2, seed 41). Not when the fittings' angle is given. Eight starts of the whole T cost
+  // about a minute a T on this machine.
+  std::vector<double> start_phi_offsets_deg = {-16.0, -12.0, -8.0, -4.0, 4.0, 8.0, 12.0, 16.0};
 };
 
 // One T-intersection of the route as the pass found and adjusted it.
@@ -83,8 +89,18 @@ struct TIntersectionRecord {
   double blue_shift_m = 0.0;       // how far the adjustment moved P_b (and all after it)
   double blue_turn_deg = 0.0;
   int triangulated_points = 0;  // the T's points at the start of the adjustment
-  double start_scale = 1.0;     // the start the solution came from
-  std::vector<std::pair<double, double>> start_scores;  // (scale, score) of every start
+  double start_scale = 1.0;     // the start the solution came from: the chained T's scale ...
+  double start_phi_offset_deg = 0.0;  // ... and phi's turn from the chained one
+  struct StartScore {
+    // "scale": the chained T scaled, on the T from the red section's last key frame when P_r
+    // leads it; "phi": at the chosen scale, phi turned, on the T from P_r. Scores compare
+    // within a stage only (each over its own T's observations).
+    std::string stage;
+    double scale = 1.0;
+    double phi_offset_deg = 0.0;
+    double score = 0.0;
+  };
+  std::vector<StartScore> start_scores;  // every start's
   // The rigid move applied to P_b and every key frame after it (identity when not adjusted),
   // and the T's adjusted points, for the map's point cloud, with the feature track of each.
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
@@ -143,26 +159,31 @@ class TIntersectionPass {
   static TTracks TracksOf(const KeyframeOdometry& odometry, int red, int blue);
   struct StartedAdjustment {
     double scale = 1.0;
+    double phi_offset_deg = 0.0;
     TIntersectionProblem problem;
     std::vector<long> point_tracks;  // the feature track of each of problem.points
     TIntersectionSummary summary;
     double score = 0.0;  // squared reprojection errors capped at 3 px, over all observations
   };
+  // ... with the model's phi turned by `phi_offset_deg` from the chained turn.
   StartedAdjustment AdjustFromScale(const TTracks& tracks, const TSpan& span,
                                     const std::vector<Eigen::Isometry3d>& poses,
-                                    const TIntersectionProblem& cylinders, double scale) const;
+                                    const TIntersectionProblem& cylinders, double scale,
+                                    double phi_offset_deg) const;
   // The end cylinders of `span` and the model's start from them, into `problem`; false, with
   // the record's rejection, when the T cannot be modelled. Fills the record's end fits, axis
   // gap and initial model.
   bool StartModel(const TSpan& span, const std::vector<SparsePoint>& points,
                   const std::vector<Eigen::Isometry3d>& poses, TIntersectionProblem* problem,
                   TIntersectionRecord* record) const;
-  // The start scale whose adjustment of `span` explains the T's images best (every start's
-  // score into the record); nullopt when none triangulated enough points.
-  std::optional<StartedAdjustment> BestStart(const KeyframeOdometry& odometry, const TSpan& span,
-                                             const std::vector<Eigen::Isometry3d>& poses,
-                                             const TIntersectionProblem& cylinders,
-                                             TIntersectionRecord* record) const;
+  // Of the starts (scale, phi offset in degrees), the one whose adjustment of `span` explains
+  // the T's images best (every start's score into the record, under `stage`); nullopt when
+  // none triangulated enough points.
+  std::optional<StartedAdjustment> BestStart(
+      const KeyframeOdometry& odometry, const TSpan& span,
+      const std::vector<Eigen::Isometry3d>& poses, const TIntersectionProblem& cylinders,
+      const std::vector<std::pair<double, double>>& scale_and_phi, const char* stage,
+      TIntersectionRecord* record) const;
   // `span`: the T as adjusted, P_r red_lead_radii before it; `choice`: the same T with P_r its red
   // section's last key frame, on which the start is chosen.
   TIntersectionRecord AdjustOne(const KeyframeOdometry& odometry, const TSpan& span,
