@@ -389,6 +389,12 @@ TEST(MapCliNetwork, TheTModelPlacesTheJunction) {
   }
   EXPECT_EQ(t["start_scale"].get<double>(), best_scale);
   EXPECT_EQ(t["start_phi_offset_deg"].get<double>(), chosen_offset);
+  // A kept start at the range's end (+-16 degrees) is flagged, and the run warns of it.
+  const bool at_end = std::abs(chosen_offset) == 16.0;
+  EXPECT_EQ(t["phi_start_at_range_end"].get<bool>(), at_end);
+  EXPECT_EQ(report["warnings"].dump().find("from the last of its starts") != std::string::npos,
+            at_end)
+      << report["warnings"].dump();
   const nlohmann::json& red_section = report["sections"][t["section"].get<int>() - 1];
   EXPECT_LT(t["red_keyframe"].get<int>(), red_section["last_keyframe"].get<int>());
   const std::vector<Junction> junctions = ReadEstimatedJunctions(dir / "run" / "junctions.yaml");

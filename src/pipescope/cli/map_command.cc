@@ -2,6 +2,7 @@
 // trajectory.tum, keyframes.tum, points_sparse.ply, points_dense.ply and a dense mosaic per
 // straight section, classification.png, junctions.yaml, run.json and, with ground truth,
 // metrics.json.
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -187,6 +188,7 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
       entry["starts"] = starts;
       entry["start_scale"] = t.start_scale;
       entry["start_phi_offset_deg"] = t.start_phi_offset_deg;
+      entry["phi_start_at_range_end"] = t.phi_start_at_range_end;
       entry["points"] = t.triangulated_points;
       entry["observations"] = t.summary.observations;
       entry["outliers_removed"] = t.summary.outliers_removed;
@@ -369,6 +371,13 @@ int RunMap(const RunFlags& flags) {
   std::vector<Junction> junctions;
   report.Extra("t_intersections") = TIntersectionsJson(result, &junctions);
   for (const TIntersectionRecord& t : result.t_intersections) {
+    if (t.rejection.empty() && t.phi_start_at_range_end) {
+      report.Warn(fmt::format(
+          "the T-intersection of key frames {}-{} took its angle (phi {:.1f} deg) from the last "
+          "of its starts ({:+.0f} deg from the chained turn): the best angle may lie beyond the "
+          "starts tried",
+          t.red_keyframe, t.blue_keyframe, t.model[kPhi] * 180.0 / M_PI, t.start_phi_offset_deg));
+    }
     if (t.rejection.empty()) continue;
     report.Warn("the T-intersection of key frames " + std::to_string(t.red_keyframe) + "-" +
                 std::to_string(t.blue_keyframe) + " kept its chained poses (" + t.rejection +

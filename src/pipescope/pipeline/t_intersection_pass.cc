@@ -390,6 +390,11 @@ TIntersectionRecord TIntersectionPass::AdjustOne(
   problem = std::move(best->problem);
   record.start_scale = best->scale;
   record.start_phi_offset_deg = best->phi_offset_deg;
+  const std::vector<double>& offsets = options_.start_phi_offsets_deg;
+  record.phi_start_at_range_end =
+      options_.fitting_angle_deg <= 0.0 && best->phi_offset_deg != 0.0 && !offsets.empty() &&
+      (best->phi_offset_deg == *std::min_element(offsets.begin(), offsets.end()) ||
+       best->phi_offset_deg == *std::max_element(offsets.begin(), offsets.end()));
   record.triangulated_points = static_cast<int>(problem.points.size());
   record.summary = best->summary;
   if (!record.summary.usable) {

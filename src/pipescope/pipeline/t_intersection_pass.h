@@ -61,7 +61,7 @@ struct TIntersectionPassOptions {
   // keeping the least score again: an adjustment ends near the phi it starts from (the images
   // say little about a T's angle), and the chain's turn can be far off (11.6 degrees at route
   // A's T2, seed 41). Not when the fittings' angle is given. Eight starts of the whole T cost
-  // about a minute a T on this machine.
+  // about 75 s a T on this machine.
   std::vector<double> start_phi_offsets_deg = {-16.0, -12.0, -8.0, -4.0, 4.0, 8.0, 12.0, 16.0};
 };
 
@@ -91,6 +91,9 @@ struct TIntersectionRecord {
   int triangulated_points = 0;  // the T's points at the start of the adjustment
   double start_scale = 1.0;     // the start the solution came from: the chained T's scale ...
   double start_phi_offset_deg = 0.0;  // ... and phi's turn from the chained one
+  // The kept phi came from the first or last of start_phi_offsets_deg: the T's angle may lie
+  // beyond the starts tried (route A's T2, seed 41, took -16 degrees), and the run says so.
+  bool phi_start_at_range_end = false;
   struct StartScore {
     // "scale": the chained T scaled, on the T from the red section's last key frame when P_r
     // leads it; "phi": at the chosen scale, phi turned, on the T from P_r. Scores compare
