@@ -28,11 +28,16 @@ Eigen::Vector2d Residual(const Camera& camera, const StraightWindow& window,
   return Eigen::Vector2d(residual[0], residual[1]);
 }
 
+// RMS reprojection error over the inlier observations of the points the adjustment estimates
+// (two or more inlier observations), as the T-intersection adjustment's: a point the MAD stages
+// left with one keeps its start while the poses move, so its last observation's error says
+// nothing about the solution.
 double ImageRms(const Camera& camera, const StraightWindow& window) {
+  const std::vector<int> inliers = InlierCounts(window);
   double sum = 0.0;
   int count = 0;
   for (const WindowObservation& observation : window.observations) {
-    if (!observation.inlier) continue;
+    if (!observation.inlier || inliers[observation.point] < 2) continue;
     sum += Residual(camera, window, observation).squaredNorm();
     ++count;
   }

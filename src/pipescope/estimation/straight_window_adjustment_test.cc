@@ -179,6 +179,30 @@ TEST(StraightWindowAdjustmentTest, CylinderRmsCountsOnlyThePointsTheWindowEstima
   EXPECT_LT(MeanPositionError(s), 0.001);
 }
 
+TEST(StraightWindowAdjustmentTest, PointsSeenOnceDoNotCountInTheImageRms) {
+  // Twenty points with a single (inlier) observation each, 50 px off: the adjustment cannot
+  // estimate them and leaves them at their start, so they must not move the image RMS. Counted,
+  // 20 of about 5000 observations at 50-70 px would lift the RMS from ~0.5 px to over 3 px.
+  SyntheticWindow plain = MakeWindow(9);
+  SyntheticWindow with_lone = MakeWindow(9);
+  for (int k = 0; k < 20; ++k) {
+    const int index = static_cast<int>(with_lone.window.points.size());
+    with_lone.window.points.push_back(with_lone.true_points[k]);
+    const Eigen::Vector2d far_off(50.0 + k, -40.0);
+    with_lone.window.observations.push_back(
+        {k % 20, index, with_lone.window.observations[k].pixel + far_off, true});
+  }
+  StraightWindowOptions options;
+  options.radius_m = kRadius;
+  const StraightWindowSummary without =
+      OptimiseStraightWindow(FisheyeTestCamera(), options, &plain.window);
+  const StraightWindowSummary with =
+      OptimiseStraightWindow(FisheyeTestCamera(), options, &with_lone.window);
+  EXPECT_LT(with.final_rms_px, 1.0);
+  EXPECT_NEAR(with.final_rms_px, without.final_rms_px, 0.01 * without.final_rms_px);
+  EXPECT_NEAR(with.initial_rms_px, without.initial_rms_px, 0.01 * without.initial_rms_px);
+}
+
 TEST(StraightWindowAdjustmentTest, AxisPriorHoldsTheHeadingOfADriftedWindow) {
   // Window 1 starts exact and fits the pipe's axis; window 2, ten key frames on, inherits a 1
   // degree heading error in its first (fixed) pose, as a chain of relative poses accumulates.
