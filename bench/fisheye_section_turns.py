@@ -47,13 +47,16 @@ def main():
     stamps = sorted(estimated)
 
     def true_at(stamp):
-        return truth[truth_stamps[np.argmin(np.abs(truth_stamps - stamp))]]
+        nearest = truth_stamps[np.argmin(np.abs(truth_stamps - stamp))]
+        if abs(nearest - stamp) > 1e-3:
+            sys.exit(f"{groundtruth}: no pose at key frame time {stamp}")
+        return truth[nearest]
 
     sections = json.load(open(f"{run}/run.json"))["sections"]
     lines = []
     for section in sections:
-        if section["class"] != "straight":
-            continue
+        if section["class"] != "straight" or section["last_keyframe"] - section["first_keyframe"] < 2:
+            continue  # a line needs three key frames
         keyframes = range(section["first_keyframe"], section["last_keyframe"] + 1)
         est = np.array([estimated[stamps[k]] for k in keyframes])
         gt = np.array([true_at(stamps[k]) for k in keyframes])

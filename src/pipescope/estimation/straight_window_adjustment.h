@@ -83,6 +83,8 @@ struct StraightWindow {
 struct StraightWindowSummary {
   int observations = 0;
   int outliers_removed = 0;
+  // Reprojection RMS before and after, over the inlier observations of the points with two or
+  // more of them (those the adjustment estimates).
   double initial_rms_px = 0.0;
   double final_rms_px = 0.0;
   double cylinder_rms_m = 0.0;  // RMS of sqrt(X~^2 + Y~^2) - r over the points, after

@@ -180,27 +180,42 @@ TEST(StraightWindowAdjustmentTest, CylinderRmsCountsOnlyThePointsTheWindowEstima
 }
 
 TEST(StraightWindowAdjustmentTest, PointsSeenOnceDoNotCountInTheImageRms) {
-  // Twenty points with a single (inlier) observation each, 50 px off: the adjustment cannot
-  // estimate them and leaves them at their start, so they must not move the image RMS. Counted,
-  // 20 of about 5000 observations at 50-70 px would lift the RMS from ~0.5 px to over 3 px.
+  // Twenty points with a single (inlier) observation each, 50-70 px from where their start
+  // projects: the adjustment cannot estimate them and leaves them at their start, so they must
+  // not move the image RMS. One stage, so no MAD stage removes them first and the final RMS is
+  // tested too. Counted, 20 of about 5000 observations at 50-70 px would lift the RMS from
+  // ~0.5 px to over 3 px.
+  const Camera camera = FisheyeTestCamera();
   SyntheticWindow plain = MakeWindow(9);
   SyntheticWindow with_lone = MakeWindow(9);
-  for (int k = 0; k < 20; ++k) {
+  int lone = 0;
+  for (int k = 0; lone < 20 && k < 400; ++k) {
+    const Eigen::Vector3d point = with_lone.window.points[k];
+    const int pose = lone;
+    Eigen::Vector2d pixel;
+    if (camera.Project(with_lone.window.poses[pose].ToIsometry() * point, &pixel) !=
+        ProjectionStatus::kValid) {
+      continue;
+    }
     const int index = static_cast<int>(with_lone.window.points.size());
-    with_lone.window.points.push_back(with_lone.true_points[k]);
-    const Eigen::Vector2d far_off(50.0 + k, -40.0);
+    with_lone.window.points.push_back(point);
     with_lone.window.observations.push_back(
-        {k % 20, index, with_lone.window.observations[k].pixel + far_off, true});
+        {pose, index, pixel + Eigen::Vector2d(50.0 + lone, -40.0), true});
+    ++lone;
   }
+  ASSERT_EQ(lone, 20);
   StraightWindowOptions options;
   options.radius_m = kRadius;
-  const StraightWindowSummary without =
-      OptimiseStraightWindow(FisheyeTestCamera(), options, &plain.window);
-  const StraightWindowSummary with =
-      OptimiseStraightWindow(FisheyeTestCamera(), options, &with_lone.window);
+  options.stages = 1;
+  const StraightWindowSummary without = OptimiseStraightWindow(camera, options, &plain.window);
+  const StraightWindowSummary with = OptimiseStraightWindow(camera, options, &with_lone.window);
   EXPECT_LT(with.final_rms_px, 1.0);
   EXPECT_NEAR(with.final_rms_px, without.final_rms_px, 0.01 * without.final_rms_px);
   EXPECT_NEAR(with.initial_rms_px, without.initial_rms_px, 0.01 * without.initial_rms_px);
+  for (std::size_t k = with_lone.window.observations.size() - 20;
+       k < with_lone.window.observations.size(); ++k) {
+    EXPECT_TRUE(with_lone.window.observations[k].inlier);
+  }
 }
 
 TEST(StraightWindowAdjustmentTest, AxisPriorHoldsTheHeadingOfADriftedWindow) {
