@@ -93,6 +93,35 @@ TEST(Cli, SimulateListsPresetsAndRejectsBadKeys) {
   EXPECT_FALSE(std::filesystem::exists(dir / "ds"));
 }
 
+TEST(Cli, SimulateSaysWhenThePresetsFramesStopShortOfTheRoute) {
+  // Route B (42.6 m) is longer than route A, whose 26 000 frames are the preset's: at the
+  // preset's speed they end before the second pass of T1-T4. Tiny frames keep this quick.
+  const auto dir = MakeTestDirectory("cli_simulate_route");
+  const std::string tiny = " --set width=64 --set height=48 -q --out ";
+  const CommandResult short_b = RunPipescope("simulate --preset fiberglass-network --set route=B" +
+                                             tiny + (dir / "b").string());
+  ASSERT_EQ(short_b.exit_status, 0) << short_b.output;
+  EXPECT_NE(short_b.output.find("m before the end of the route"), std::string::npos)
+      << short_b.output;
+  EXPECT_NE(short_b.output.find("--frames 34"), std::string::npos) << short_b.output;
+  // Route A's own frames reach its end; a frame count the user gave is a cut, and a preset whose
+  // frames stop short by design (culvert) is as its preset says: neither is warned of.
+  const CommandResult whole_a =
+      RunPipescope("simulate --preset fiberglass-network" + tiny + (dir / "a").string());
+  ASSERT_EQ(whole_a.exit_status, 0) << whole_a.output;
+  EXPECT_EQ(whole_a.output.find("before the end of the route"), std::string::npos)
+      << whole_a.output;
+  const CommandResult cut = RunPipescope(
+      "simulate --preset fiberglass-network --set route=B --frames 20" + tiny + (dir / "cut").string());
+  ASSERT_EQ(cut.exit_status, 0) << cut.output;
+  EXPECT_EQ(cut.output.find("before the end of the route"), std::string::npos) << cut.output;
+  const CommandResult culvert =
+      RunPipescope("simulate --preset culvert" + tiny + (dir / "culvert").string());
+  ASSERT_EQ(culvert.exit_status, 0) << culvert.output;
+  EXPECT_EQ(culvert.output.find("before the end of the route"), std::string::npos)
+      << culvert.output;
+}
+
 TEST(Cli, SimulateThenGainmaskAndUndistort) {
   const auto dir = MakeTestDirectory("cli_simulate");
   const std::string ds = (dir / "ds").string();

@@ -1,6 +1,7 @@
 // `pipescope simulate`: renders a pipe dataset with exact ground truth (GUIDE §4-5).
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -14,6 +15,9 @@
 
 namespace pipescope {
 namespace {
+
+// A dataset whose frames stop more than this short of its route's end is said to (metres).
+constexpr double kRouteLeftToleranceM = 0.05;
 
 struct SimulateFlags {
   std::string preset;
@@ -61,6 +65,29 @@ int RunSimulate(const SimulateFlags& flags) {
   if (summary.route_length_m > 0) {
     spdlog::info("the camera travels {:.3f} m (the route is {:.2f} m long)", summary.travelled_m,
                  summary.route_length_m);
+  }
+  // A preset's frame count was chosen for its own route (001 dataset A: 26 000 frames); another
+  // route (route=B) may need more, and a dataset that then stops short of the route's end (route B
+  // before its second pass of T1-T4, the one loop closure needs) must say so. Presets whose frames
+  // stop before their travel's end by design (culvert, tube-bend) and counts the user chose are
+  // only logged.
+  if (summary.route_left_m > kRouteLeftToleranceM && summary.route_driven_m > 0.0) {
+    const SimulationConfig preset = PresetConfig(flags.preset);
+    const bool other_route = config.route != preset.route && config.frames == preset.frames;
+    const int enough = static_cast<int>(
+        std::ceil(1.02 * config.frames * (summary.route_driven_m + summary.route_left_m) /
+                  summary.route_driven_m / 500.0) *
+        500.0);
+    const std::string message = fmt::format(
+        "the {} frames end {:.2f} m before the end of the route ({:.2f} of {:.2f} m driven); "
+        "about --frames {} would drive all of it",
+        config.frames, summary.route_left_m, summary.route_driven_m,
+        summary.route_driven_m + summary.route_left_m, enough);
+    if (other_route) {
+      spdlog::warn("{}", message);
+    } else {
+      spdlog::info("{}", message);
+    }
   }
   return kExitSuccess;
 }

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <future>
 #include <opencv2/imgcodecs.hpp>
@@ -149,6 +150,11 @@ SimulationSummary SimulateDataset(const SimulationConfig& config,
   const Trajectory& frames = simulation.motion().Frames();
   for (std::size_t i = 1; i < frames.size(); ++i) {
     summary.travelled_m += (frames[i].position - frames[i - 1].position).norm();
+  }
+  if (!config.out_and_back && !frames.empty()) {
+    const double reached = simulation.motion().ArcLength(frames.back().timestamp);
+    summary.route_driven_m = reached - layout.start_s_m;
+    summary.route_left_m = std::max(0.0, layout.start_s_m + layout.travel_m - reached);
   }
   return summary;
 }

@@ -12,6 +12,10 @@ struct SimulationSummary {
   double seconds = 0.0;         // wall-clock rendering time
   double route_length_m = 0.0;  // the scene's whole route
   double travelled_m = 0.0;     // the path the rendered frames cover
+  // Of a one-way run: how much of the route's centreline is left beyond the last frame (0 when
+  // the robot reached the route's end), and how far along it the robot drove.
+  double route_left_m = 0.0;
+  double route_driven_m = 0.0;
 };
 
 // Renders the dataset `config` describes into `out` (GUIDE §4): images/, camera.yaml,
