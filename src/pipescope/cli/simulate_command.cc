@@ -53,7 +53,8 @@ int RunSimulate(const SimulateFlags& flags) {
   }
   if (flags.preset.empty()) throw InputError("flag --preset is required (see --list-presets)");
   if (flags.out.empty()) throw InputError("flag --out is required");
-  SimulationConfig config = PresetConfig(flags.preset);
+  const SimulationConfig preset = PresetConfig(flags.preset);
+  SimulationConfig config = preset;
   for (const std::string& assignment : flags.assignments) SetConfigValue(&config, assignment);
   if (flags.frames > 0) config.frames = flags.frames;
   if (flags.seed >= 0) config.seed = static_cast<std::uint64_t>(flags.seed);
@@ -72,7 +73,6 @@ int RunSimulate(const SimulateFlags& flags) {
   // stop before their travel's end by design (culvert, tube-bend) and counts the user chose are
   // only logged.
   if (summary.route_left_m > kRouteLeftToleranceM && summary.route_driven_m > 0.0) {
-    const SimulationConfig preset = PresetConfig(flags.preset);
     const bool other_route = config.route != preset.route && config.frames == preset.frames;
     const int enough = static_cast<int>(
         std::ceil(1.02 * config.frames * (summary.route_driven_m + summary.route_left_m) /
