@@ -8,7 +8,9 @@ between the lines through its first and its last two fifths, estimated beside tr
 pipe's true bend is the camera's wander, a few hundredths of a degree); then, between consecutive
 straight sections, the angle between their lines, estimated beside true, and the difference.
 Angles between lines need no alignment of the two frames. Needs numpy.
-Usage: bench/fisheye_section_turns.py RUN_DIR GROUNDTRUTH_TUM
+KEYFRAMES_TUM (default RUN_DIR/keyframes.tum) may name the run's
+keyframes_before_loop_closure.tum instead, to see the turns before the closure moved them.
+Usage: bench/fisheye_section_turns.py RUN_DIR GROUNDTRUTH_TUM [KEYFRAMES_TUM]
 """
 import json
 import sys
@@ -38,10 +40,10 @@ def angle_deg(a, b):
 
 
 def main():
-    if len(sys.argv) != 3:
+    if len(sys.argv) not in (3, 4):
         sys.exit(__doc__)
-    run, groundtruth = sys.argv[1:]
-    estimated = read_positions(f"{run}/keyframes.tum")
+    run, groundtruth = sys.argv[1:3]
+    estimated = read_positions(sys.argv[3] if len(sys.argv) == 4 else f"{run}/keyframes.tum")
     truth = read_positions(groundtruth)
     truth_stamps = np.array(sorted(truth))
     stamps = sorted(estimated)

@@ -128,6 +128,11 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
                         {"gap_after_m", revisit.gap_after_m},
                         {"path_between_m", revisit.path_between_m}});
   }
+  nlohmann::json turn_changes = nlohmann::json::array();
+  for (const TTurnChange& change : record.t_turn_changes) {
+    turn_changes.push_back(
+        {{"section", change.section}, {"turn_change_deg", change.turn_change_deg}});
+  }
   return {{"applied", record.applied},
           {"why_not", record.why_not},
           {"turns", record.turns},
@@ -135,6 +140,7 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
           {"unmatched_reverse_passes", record.unmatched_reverse_passes},
           {"edges", edges},
           {"revisits", revisits},
+          {"t_turn_changes", turn_changes},
           {"graph",
            {{"converged", record.graph.converged},
             {"initial_cost", record.graph.initial_cost},
@@ -183,7 +189,8 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
         starts.push_back({{"stage", start.stage},
                           {"scale", start.scale},
                           {"phi_offset_deg", start.phi_offset_deg},
-                          {"score", start.score}});
+                          {"score", start.score},
+                          {"phi_deg", start.phi_deg}});
       }
       entry["starts"] = starts;
       entry["start_scale"] = t.start_scale;
@@ -460,6 +467,9 @@ int RunMap(const RunFlags& flags) {
       UnconfirmedTurnReasons(result.t_intersections, junction_names, result.loop_closure));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.keyframe_trajectory);
+  if (!result.keyframe_trajectory_before_loop_closure.empty()) {
+    run.WriteKeyFramesBeforeLoopClosure(result.keyframe_trajectory_before_loop_closure);
+  }
   WriteSparsePly(result, &run);
   std::vector<PipeViewClass> initial, filtered;
   for (const FisheyeKeyframe& keyframe : result.keyframes) {

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -86,6 +87,9 @@ void CheckEdge(int index, const PoseGraphEdge& edge, int pose_count) {
   if (!edge.from_T_to.matrix().allFinite()) {
     throw InputError(EdgeName(index, edge) + ": relative pose is not finite");
   }
+  if (!(edge.huber_scale >= 0.0) || !std::isfinite(edge.huber_scale)) {
+    throw InputError(EdgeName(index, edge) + ": Huber scale must be 0 or positive");
+  }
 }
 
 // One vertex's parameter blocks, as Ceres edits them.
@@ -148,8 +152,10 @@ PoseGraphResult OptimisePoseGraph(const std::vector<PoseGraphEdge>& edges,
   for (int i = 0; i < static_cast<int>(edges.size()); ++i) {
     VertexParameters& from = vertices[edges[i].from];
     VertexParameters& to = vertices[edges[i].to];
+    ceres::LossFunction* loss =
+        edges[i].huber_scale > 0.0 ? new ceres::HuberLoss(edges[i].huber_scale) : nullptr;
     problem.AddResidualBlock(RelativePoseError::Create(edges[i].from_T_to, sqrt_information[i]),
-                             nullptr, from.position.data(), from.rotation.data(),
+                             loss, from.position.data(), from.rotation.data(),
                              to.position.data(), to.rotation.data());
   }
   for (VertexParameters& vertex : vertices) {

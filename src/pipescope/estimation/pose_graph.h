@@ -18,6 +18,10 @@ struct PoseGraphEdge {
   // Inverse covariance of the 6-D error [translation (m), rotation (rad)], the translation part
   // in the `from` frame; symmetric positive definite.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Identity();
+  // 0: the squared whitened error. Above 0: Huber's loss on it with this scale (in standard
+  // deviations), so an edge whose measurement is grossly wrong costs linearly beyond it, and a
+  // correction the graph needs goes to that edge rather than being spread over all of them.
+  double huber_scale = 0.0;
 };
 
 struct PoseGraphOptions {
@@ -46,11 +50,12 @@ std::vector<PoseGraphEdge> ConsecutivePoseEdges(
     double rotation_sigma_rad);
 
 // Moves the poses in `world_from_cam` (in place) to minimise the sum over edges of
-//   e^T I e,  e = [t_est - t_meas ; 2 vec(q_meas^-1 q_est)],
+//   e^T I e,  e = [t_est - t_meas ; 2 vec(q_meas^-1 q_est)]  (or Huber's loss of it),
 // where (t_est, q_est) is the estimated relative pose T_from^-1 T_to. The first pose is held
 // constant: it fixes the gauge (the graph alone says nothing about where the world is).
 // Throws InputError naming the edge when an index is out of range, an edge joins a pose to
-// itself, or an information matrix is not symmetric positive definite.
+// itself, an information matrix is not symmetric positive definite or a Huber scale is negative
+// or not finite.
 PoseGraphResult OptimisePoseGraph(const std::vector<PoseGraphEdge>& edges,
                                   std::vector<Eigen::Isometry3d>* world_from_cam,
                                   const PoseGraphOptions& options = {});

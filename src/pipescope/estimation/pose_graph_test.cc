@@ -116,6 +116,68 @@ TEST(OptimisePoseGraph, LoopClosuresUndoOdometryDrift) {
   EXPECT_EQ(poses[0].matrix(), truth[0].matrix());
 }
 
+// The square loop's four corners as a network's Ts: the odometry exact but for one corner turned
+// `wrong_turn_rad` too far left; each corner's steps (two either side) turn freely and the
+// corner's turn is one edge of `corner_sigma_rad`, Huber's loss beyond `huber_sigmas` (0:
+// squared); the first side's loop closures exact. Returns each corner's turn error after the
+// graph, in radians.
+std::vector<double> CornerErrorsAfterClosure(double wrong_turn_rad, double corner_sigma_rad,
+                                             double huber_sigmas) {
+  const std::vector<Eigen::Isometry3d> truth = SquareLoop();
+  const int corners[4] = {kStepsPerSide, 2 * kStepsPerSide, 3 * kStepsPerSide, kStepsRound};
+  const int wrong = 1;
+  std::vector<PoseGraphEdge> edges = ConsecutivePoseEdges(truth, 0.001, 0.05 * M_PI / 180.0);
+  const Matrix6d free_turn = IsotropicPoseInformation(0.001, 5.0 * M_PI / 180.0);
+  for (int c = 0; c < 4; ++c) {
+    for (int k = corners[c] - 2; k < corners[c] + 2; ++k) edges[k].information = free_turn;
+  }
+  edges[corners[wrong] - 1].from_T_to.linear() =
+      edges[corners[wrong] - 1].from_T_to.linear() *
+      Eigen::AngleAxisd(wrong_turn_rad, -Eigen::Vector3d::UnitY()).toRotationMatrix();
+  std::vector<Eigen::Isometry3d> poses = {truth.front()};
+  for (const PoseGraphEdge& edge : edges) poses.push_back(poses.back() * edge.from_T_to);
+  for (int c = 0; c < 4; ++c) {
+    PoseGraphEdge turn{corners[c] - 2, corners[c] + 2,
+                       poses[corners[c] - 2].inverse() * poses[corners[c] + 2],
+                       IsotropicPoseInformation(1.0, corner_sigma_rad)};
+    turn.huber_scale = huber_sigmas;
+    edges.push_back(turn);
+  }
+  for (const PoseGraphEdge& closure : LoopClosures(truth)) edges.push_back(closure);
+  EXPECT_TRUE(OptimisePoseGraph(edges, &poses).converged);
+  std::vector<double> errors;
+  for (int c = 0; c < 4; ++c) {
+    const auto turn = [&](const std::vector<Eigen::Isometry3d>& p) {
+      return p[corners[c] - 2].linear().transpose() * p[corners[c] + 2].linear();
+    };
+    errors.push_back(Eigen::AngleAxisd(turn(truth).transpose() * turn(poses)).angle());
+  }
+  return errors;
+}
+
+// A loop's closure fixes where it ends, not which corner was wrong: with squared errors one
+// corner's 9 degrees are spread over every corner (and a little over the sides), so the right
+// corners end degrees off. With Huber's loss on the corners' turns the closure puts nearly all
+// of it where it belongs (route B's T2, docs/fisheye_mapping.md).
+TEST(OptimisePoseGraph, HuberLossPutsOneWrongCornersErrorOnThatCorner) {
+  const double deg = M_PI / 180.0;
+  const std::vector<double> squared = CornerErrorsAfterClosure(9.0 * deg, 0.5 * deg, 0.0);
+  const std::vector<double> huber = CornerErrorsAfterClosure(9.0 * deg, 0.5 * deg, 1.0);
+  double worst_squared = 0.0, worst_huber = 0.0, right_squared = 0.0, right_huber = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    std::printf("corner %d: %.3f deg off with squared errors, %.3f deg with Huber's loss\n", c,
+                squared[c] / deg, huber[c] / deg);
+    worst_squared = std::max(worst_squared, squared[c]);
+    worst_huber = std::max(worst_huber, huber[c]);
+    if (c != 1) right_squared += squared[c], right_huber += huber[c];
+  }
+  EXPECT_GT(worst_squared, 3.0 * deg);  // the wrong corner keeps more than a third
+  EXPECT_GT(right_squared, 3.0 * deg);  // and the right ones take degrees
+  EXPECT_LT(worst_huber, 0.75 * deg);
+  EXPECT_LT(worst_huber, 0.2 * worst_squared);
+  EXPECT_LT(right_huber, 0.25 * right_squared);
+}
+
 TEST(OptimisePoseGraph, ConsistentGraphStaysPut) {
   const std::vector<Eigen::Isometry3d> truth = SquareLoop();
   std::vector<PoseGraphEdge> edges = ConsecutivePoseEdges(truth, 0.01, 0.005);
@@ -221,6 +283,9 @@ TEST(OptimisePoseGraph, InvalidEdgesAreRejectedByName) {
   PoseGraphEdge asymmetric = good;
   asymmetric.information(0, 5) = 0.5;
   EXPECT_NE(ErrorOfBadEdge(asymmetric).find("edge 1"), std::string::npos);
+  PoseGraphEdge negative_huber = good;
+  negative_huber.huber_scale = -1.0;
+  EXPECT_NE(ErrorOfBadEdge(negative_huber).find("edge 1"), std::string::npos);
   PoseGraphEdge not_finite = good;
   not_finite.from_T_to.translation().x() = NAN;
   EXPECT_NE(ErrorOfBadEdge(not_finite).find("edge 1"), std::string::npos);

@@ -251,8 +251,15 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
         input.step_confirmed[k] = true;
       }
     }
+    const std::vector<Eigen::Isometry3d> before_closure = poses;
     result.loop_closure =
         CloseLoops(input, options.loop_closure, &poses, &result.t_intersections, &result.points);
+    if (result.loop_closure.applied) {
+      for (std::size_t k = 0; k < poses.size(); ++k) {
+        result.keyframe_trajectory_before_loop_closure.push_back(
+            ToStampedPose(result.keyframes[k].timestamp, before_closure[k]));
+      }
+    }
     for (std::size_t k = 0; k < poses.size(); ++k) result.keyframes[k].world_from_cam = poses[k];
     clock.AddTo(&result.stage_times, "loop_closure");
   }

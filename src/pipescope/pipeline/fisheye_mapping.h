@@ -77,6 +77,9 @@ struct FisheyeFrameFailure {
 struct FisheyeMappingResult {
   Trajectory trajectory;           // every frame (non-key frames interpolated between key frames)
   Trajectory keyframe_trajectory;  // key frames
+  // The key frames as the T pass left them, before the loop closure moved them (empty when no
+  // closure was applied): what the closure changed, e.g. each corner's turn, against the truth.
+  Trajectory keyframe_trajectory_before_loop_closure;
   std::vector<FisheyeKeyframe> keyframes;
   std::vector<FisheyeSection> sections;
   std::vector<OdometryWindowRecord> windows;

@@ -238,9 +238,17 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           [](O& o) -> double& { return o.loop_closure.ambiguity_separation_radii; }, 0.0, 1000.0,
           "radii", "loop closure: how far along the later pass another place must lie"),
       Number<O>(
-          "loop_t_step_rotation_factor",
-          [](O& o) -> double& { return o.loop_closure.t_step_rotation_factor; }, 1.0, 1000.0, "",
-          "loop closure: a step inside a T may turn this many times more than a straight one"),
+          "loop_t_step_rotation_sigma_deg",
+          [](O& o) -> double& { return o.loop_closure.t_step_rotation_sigma_deg; }, 0.001, 180.0,
+          "deg", "loop closure: how far a step inside a T may turn (its own turn's edge aside)"),
+      Number<O>(
+          "loop_t_turn_sigma_deg",
+          [](O& o) -> double& { return o.loop_closure.t_turn_sigma_deg; }, 0.001, 1000.0, "deg",
+          "loop closure: standard deviation of each T's turn, P_r to P_b"),
+      Number<O>(
+          "loop_t_turn_huber_sigmas",
+          [](O& o) -> double& { return o.loop_closure.t_turn_huber_sigmas; }, 0.0, 1000.0, "",
+          "loop closure: a T's turn costs linearly beyond this many sigmas (0: squared)"),
       // The dense appearance map (001 §IV-B).
       Flag<O>(
           "dense_map", [](O& o) -> bool& { return o.dense_map.enabled; },

@@ -186,6 +186,46 @@ double LargestGap(const std::vector<Passage>& passages, const std::vector<int>& 
 
 }  // namespace
 
+std::vector<PoseGraphEdge> OdometryGraphEdges(const std::vector<Eigen::Isometry3d>& world_from_cam,
+                                             const std::vector<int>& section_of,
+                                             const std::vector<bool>& section_straight,
+                                             const std::vector<bool>& step_confirmed,
+                                             const std::vector<TIntersectionRecord>& t_intersections,
+                                             const LoopClosurePassOptions& options) {
+  const int keyframe_count = static_cast<int>(world_from_cam.size());
+  std::vector<PoseGraphEdge> edges =
+      ConsecutivePoseEdges(world_from_cam, options.step_translation_sigma_m,
+                           options.step_rotation_sigma_deg * kDegToRad);
+  const Eigen::Matrix<double, 6, 6> t_step_information = IsotropicPoseInformation(
+      options.step_translation_sigma_m, options.t_step_rotation_sigma_deg * kDegToRad);
+  const Eigen::Matrix<double, 6, 6> unconfirmed_step_information = IsotropicPoseInformation(
+      options.unconfirmed_step_factor * options.step_translation_sigma_m,
+      options.unconfirmed_step_factor * options.step_rotation_sigma_deg * kDegToRad);
+  for (PoseGraphEdge& edge : edges) {
+    if (!section_straight[section_of[edge.to]]) {
+      edge.information = t_step_information;
+    } else if (!step_confirmed[edge.to]) {
+      edge.information = unconfirmed_step_information;
+    }
+  }
+  // Each T's turn, as one edge: only its rotation, since its steps carry the translation (1 m
+  // here constrains nothing beside their 1 mm each).
+  const Eigen::Matrix<double, 6, 6> t_turn_information =
+      IsotropicPoseInformation(1.0, options.t_turn_sigma_deg * kDegToRad);
+  for (const TIntersectionRecord& t : t_intersections) {
+    if (t.red_keyframe < 0 || t.red_keyframe >= t.blue_keyframe ||
+        t.blue_keyframe >= keyframe_count) {
+      continue;
+    }
+    PoseGraphEdge turn{t.red_keyframe, t.blue_keyframe,
+                       world_from_cam[t.red_keyframe].inverse() * world_from_cam[t.blue_keyframe],
+                       t_turn_information};
+    turn.huber_scale = options.t_turn_huber_sigmas;
+    edges.push_back(turn);
+  }
+  return edges;
+}
+
 LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePassOptions& options,
                              std::vector<Eigen::Isometry3d>* world_from_cam,
                              std::vector<TIntersectionRecord>* t_intersections,
@@ -350,21 +390,8 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
                                             (*world_from_cam)[found->second], frame->grey);
   }
   std::vector<PoseGraphEdge> edges =
-      ConsecutivePoseEdges(*world_from_cam, options.step_translation_sigma_m,
-                           options.step_rotation_sigma_deg * kDegToRad);
-  const Eigen::Matrix<double, 6, 6> t_step_information = IsotropicPoseInformation(
-      options.step_translation_sigma_m,
-      options.t_step_rotation_factor * options.step_rotation_sigma_deg * kDegToRad);
-  const Eigen::Matrix<double, 6, 6> unconfirmed_step_information = IsotropicPoseInformation(
-      options.unconfirmed_step_factor * options.step_translation_sigma_m,
-      options.unconfirmed_step_factor * options.step_rotation_sigma_deg * kDegToRad);
-  for (PoseGraphEdge& edge : edges) {
-    if (!input.section_straight[input.section_of[edge.to]]) {
-      edge.information = t_step_information;
-    } else if (!input.step_confirmed[edge.to]) {
-      edge.information = unconfirmed_step_information;
-    }
-  }
+      OdometryGraphEdges(*world_from_cam, input.section_of, input.section_straight,
+                         input.step_confirmed, *t_intersections, options);
   const Eigen::Matrix<double, 6, 6> loop_information = IsotropicPoseInformation(
       options.loop_translation_sigma_m, options.loop_rotation_sigma_deg * kDegToRad);
   std::vector<double> path_along_pass(keyframe_count, 0.0);
@@ -472,6 +499,13 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     point.position = correction(k) * point.position;
   }
   for (TIntersectionRecord& t : *t_intersections) {
+    const Eigen::Matrix3d turn_before =
+        before[t.red_keyframe].linear().transpose() * before[t.blue_keyframe].linear();
+    const Eigen::Matrix3d turn_after = (*world_from_cam)[t.red_keyframe].linear().transpose() *
+                                       (*world_from_cam)[t.blue_keyframe].linear();
+    record.t_turn_changes.push_back(
+        {t.section,
+         Eigen::AngleAxisd(turn_before.transpose() * turn_after).angle() / kDegToRad});
     const Eigen::Isometry3d c = correction(t.red_keyframe);
     t.geometry.centre = c * t.geometry.centre;
     t.geometry.red_direction = c.linear() * t.geometry.red_direction;

@@ -57,12 +57,21 @@ struct LoopClosurePassOptions {
   // A loop edge joins two key frames of one pipe at one distance from its junction: they are
   // within a radius of each other and turned by less than this, or the edge is refused.
   double max_edge_rotation_deg = 20.0;
-  // The pose graph's edges (standard deviations on every axis): odometry steps; steps inside a
-  // T section, whose angle the T model measures only weakly (docs/fisheye_mapping.md), get their
-  // rotation's times t_step_rotation_factor; loop edges.
+  // The pose graph's edges (standard deviations on every axis): odometry steps; loop edges.
   double step_translation_sigma_m = 0.001;
   double step_rotation_sigma_deg = 0.05;
-  double t_step_rotation_factor = 10.0;
+  // A T's turn is what the map knows least well, and its errors are heavy-tailed: the adjusted
+  // Ts of route A (seed 41) turned 0.3-2.8 degrees off, and route B's T2 (default seed) 9.2
+  // degrees, a start that ended in the wrong basin (docs/fisheye_mapping.md); the held end
+  // cylinders' tilt alone puts 0.2-0.7 degrees into a T's angle. So the steps inside a T
+  // section turn freely (t_step_rotation_sigma_deg), and each T's turn, P_r to P_b as the T pass
+  // left it, is one edge with t_turn_sigma_deg and Huber's loss beyond t_turn_huber_sigmas of it
+  // (0: squared). With squared errors everywhere a loop that must close spreads one T's error
+  // over every corner (on a four-T loop, as a shear: each corner a quarter of it, in
+  // alternating sign); with Huber's loss the corner that is far off takes nearly all of it.
+  double t_step_rotation_sigma_deg = 5.0;
+  double t_turn_sigma_deg = 0.5;
+  double t_turn_huber_sigmas = 1.0;
   // A straight step no applied window confirmed rests on the single step's scale and rotation
   // (docs/fisheye_mapping.md: such sections came out up to 57 % short): both its sigmas times
   // this.
@@ -100,6 +109,14 @@ struct JunctionRevisit {
   double path_between_m = 0.0;  // key frame path from the first passage's P_r to the last's
 };
 
+// How much the closure turned one T: the rotation between its P_r and P_b after the closure
+// against before it. The closure changes a corner's angle where the graph lets it; these tell
+// the user which corners took the correction.
+struct TTurnChange {
+  int section = 0;  // the T section
+  double turn_change_deg = 0.0;
+};
+
 struct LoopClosureRecord {
   bool applied = false;
   std::string why_not;              // when not applied
@@ -108,6 +125,7 @@ struct LoopClosureRecord {
   std::vector<std::pair<int, int>> unmatched_reverse_passes;  // driven the other way: not matched
   std::vector<LoopEdgeRecord> edges;
   std::vector<JunctionRevisit> revisits;
+  std::vector<TTurnChange> t_turn_changes;  // per T record, when the closure was applied
   PoseGraphResult graph;
 };
 
@@ -124,6 +142,18 @@ struct LoopClosureInput {
   std::vector<bool> section_straight;
   std::vector<bool> step_confirmed;  // per key frame: an applied window spans the step into it
 };
+
+// The pose graph's edges before any loop edge: one per odometry step between consecutive key
+// frames of `world_from_cam` (a straight step's sigmas, times unconfirmed_step_factor where no
+// applied window confirmed it, `step_confirmed` per key frame; a T section's steps with
+// t_step_rotation_sigma_deg), then one per T record from its P_r to its P_b, measuring the turn
+// between them with t_turn_sigma_deg and Huber's loss beyond t_turn_huber_sigmas.
+std::vector<PoseGraphEdge> OdometryGraphEdges(const std::vector<Eigen::Isometry3d>& world_from_cam,
+                                             const std::vector<int>& section_of,
+                                             const std::vector<bool>& section_straight,
+                                             const std::vector<bool>& step_confirmed,
+                                             const std::vector<TIntersectionRecord>& t_intersections,
+                                             const LoopClosurePassOptions& options);
 
 LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePassOptions& options,
                              std::vector<Eigen::Isometry3d>* world_from_cam,

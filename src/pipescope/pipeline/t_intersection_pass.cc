@@ -308,7 +308,8 @@ std::optional<TIntersectionPass::StartedAdjustment> TIntersectionPass::BestStart
       num_starts);
   std::optional<StartedAdjustment> best;
   for (StartedAdjustment& started : starts) {
-    record->start_scores.push_back({stage, started.scale, started.phi_offset_deg, started.score});
+    record->start_scores.push_back({stage, started.scale, started.phi_offset_deg, started.score,
+                                    started.problem.model[kPhi] / kDeg});
     if (!best || started.score < best->score) best = std::move(started);
   }
   if (!best || best->problem.points.size() < 20) return std::nullopt;

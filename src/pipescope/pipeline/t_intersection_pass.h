@@ -102,6 +102,7 @@ struct TIntersectionRecord {
     double scale = 1.0;
     double phi_offset_deg = 0.0;
     double score = 0.0;
+    double phi_deg = 0.0;  // where the start's adjustment ended (its model's phi)
   };
   std::vector<StartScore> start_scores;  // every start's
   // The rigid move applied to P_b and every key frame after it (identity when not adjusted),

@@ -194,6 +194,10 @@ void RunDirectory::WriteKeyFrames(const Trajectory& key_frames) {
   WriteTumTrajectory(staging_.path() / "keyframes.tum", key_frames);
 }
 
+void RunDirectory::WriteKeyFramesBeforeLoopClosure(const Trajectory& key_frames) {
+  WriteTumTrajectory(staging_.path() / "keyframes_before_loop_closure.tum", key_frames);
+}
+
 void RunDirectory::WriteSparsePoints(const std::vector<Eigen::Vector3d>& points,
                                      const std::vector<PlyColour>& colours,
                                      const std::string& comment) {

@@ -43,6 +43,8 @@ class RunDirectory {
   void WriteTrajectory(const Trajectory& trajectory);
   // keyframes.tum, for methods with key frames.
   void WriteKeyFrames(const Trajectory& key_frames);
+  // keyframes_before_loop_closure.tum: the key frames before a loop closure moved them.
+  void WriteKeyFramesBeforeLoopClosure(const Trajectory& key_frames);
   // points_sparse.ply (colours: empty or one per point).
   void WriteSparsePoints(const std::vector<Eigen::Vector3d>& points,
                          const std::vector<PlyColour>& colours = {},
