@@ -393,6 +393,16 @@ int RunMap(const RunFlags& flags) {
                             : ", and it is not in junctions.yaml"));
   }
   report.Extra("loop_closure") = LoopClosureJson(result.loop_closure);
+  // A corner the closure turned by more than a degree (a T's angle, when the T pass got it
+  // right, is off by 0.2-0.7 degrees through its end cylinders alone) was wrong by about that
+  // much before it: the user should know which junction's angle the loop corrected.
+  for (const TTurnChange& change : result.loop_closure.t_turn_changes) {
+    if (change.turn_change_deg <= 1.0) continue;
+    report.Warn(fmt::format(
+        "loop closure turned the T-intersection of section {} by {:.2f} deg: its turn before the "
+        "closure was off by about that much",
+        change.section, change.turn_change_deg));
+  }
   if (!result.loop_closure.applied &&
       result.loop_closure.why_not.rfind("the run's turns", 0) == 0) {
     report.Warn("no loop closure: " + result.loop_closure.why_not);

@@ -243,8 +243,9 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           "deg", "loop closure: how far a step inside a T may turn (its own turn's edge aside)"),
       Number<O>(
           "loop_t_turn_sigma_deg",
-          [](O& o) -> double& { return o.loop_closure.t_turn_sigma_deg; }, 0.001, 1000.0, "deg",
-          "loop closure: standard deviation of each T's turn, P_r to P_b"),
+          [](O& o) -> double& { return o.loop_closure.t_turn_sigma_deg; }, 0.0, 1000.0, "deg",
+          "loop closure: standard deviation of each T's turn, P_r to P_b, as one edge (0: no "
+          "such edge)"),
       Number<O>(
           "loop_t_turn_huber_sigmas",
           [](O& o) -> double& { return o.loop_closure.t_turn_huber_sigmas; }, 0.0, 1000.0, "",

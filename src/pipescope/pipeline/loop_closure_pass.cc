@@ -210,6 +210,7 @@ std::vector<PoseGraphEdge> OdometryGraphEdges(const std::vector<Eigen::Isometry3
   }
   // Each T's turn, as one edge: only its rotation, since its steps carry the translation (1 m
   // here constrains nothing beside their 1 mm each).
+  if (options.t_turn_sigma_deg <= 0.0) return edges;
   const Eigen::Matrix<double, 6, 6> t_turn_information =
       IsotropicPoseInformation(1.0, options.t_turn_sigma_deg * kDegToRad);
   for (const TIntersectionRecord& t : t_intersections) {
@@ -499,13 +500,15 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     point.position = correction(k) * point.position;
   }
   for (TIntersectionRecord& t : *t_intersections) {
-    const Eigen::Matrix3d turn_before =
-        before[t.red_keyframe].linear().transpose() * before[t.blue_keyframe].linear();
-    const Eigen::Matrix3d turn_after = (*world_from_cam)[t.red_keyframe].linear().transpose() *
-                                       (*world_from_cam)[t.blue_keyframe].linear();
-    record.t_turn_changes.push_back(
-        {t.section,
-         Eigen::AngleAxisd(turn_before.transpose() * turn_after).angle() / kDegToRad});
+    if (t.blue_keyframe < static_cast<int>(before.size())) {
+      const Eigen::Matrix3d turn_before =
+          before[t.red_keyframe].linear().transpose() * before[t.blue_keyframe].linear();
+      const Eigen::Matrix3d turn_after = (*world_from_cam)[t.red_keyframe].linear().transpose() *
+                                         (*world_from_cam)[t.blue_keyframe].linear();
+      record.t_turn_changes.push_back(
+          {t.section,
+           Eigen::AngleAxisd(turn_before.transpose() * turn_after).angle() / kDegToRad});
+    }
     const Eigen::Isometry3d c = correction(t.red_keyframe);
     t.geometry.centre = c * t.geometry.centre;
     t.geometry.red_direction = c.linear() * t.geometry.red_direction;

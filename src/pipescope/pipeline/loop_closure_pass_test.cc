@@ -55,6 +55,9 @@ TEST(LoopClosurePass, GraphEdgesCarryEachTsTurnOnOneRobustEdge) {
   t.red_keyframe = 3;
   t.blue_keyframe = 8;
   LoopClosurePassOptions options;
+  options.t_step_rotation_sigma_deg = 5.0;
+  options.t_turn_sigma_deg = 0.5;
+  options.t_turn_huber_sigmas = 1.0;
   const std::vector<PoseGraphEdge> edges =
       OdometryGraphEdges(poses, section_of, straight, confirmed, {t}, options);
   ASSERT_EQ(edges.size(), 12u);  // 11 steps and the T's turn
@@ -83,6 +86,11 @@ TEST(LoopClosurePass, GraphEdgesCarryEachTsTurnOnOneRobustEdge) {
   EXPECT_NEAR(rotation_sigma(turn), options.t_turn_sigma_deg * deg, 1e-12);
   EXPECT_EQ(turn.huber_scale, options.t_turn_huber_sigmas);
 
+  // Without a turn sigma, no turn edge.
+  LoopClosurePassOptions without_turn = options;
+  without_turn.t_turn_sigma_deg = 0.0;
+  EXPECT_EQ(OdometryGraphEdges(poses, section_of, straight, confirmed, {t}, without_turn).size(),
+            11u);
   // A T record without key frames (a route that ends in its T) adds no edge.
   TIntersectionRecord unplaced;
   unplaced.red_keyframe = 9;
