@@ -251,13 +251,13 @@ FisheyeMappingResult RunFisheyeMapping(const DatasetManifest& manifest, const Ca
         input.step_confirmed[k] = true;
       }
     }
-    const std::vector<Eigen::Isometry3d> before_closure = poses;
     result.loop_closure =
         CloseLoops(input, options.loop_closure, &poses, &result.t_intersections, &result.points);
+    // The key frames still hold the poses from before the closure until the line after this.
     if (result.loop_closure.applied) {
-      for (std::size_t k = 0; k < poses.size(); ++k) {
+      for (const FisheyeKeyframe& keyframe : result.keyframes) {
         result.keyframe_trajectory_before_loop_closure.push_back(
-            ToStampedPose(result.keyframes[k].timestamp, before_closure[k]));
+            ToStampedPose(keyframe.timestamp, keyframe.world_from_cam));
       }
     }
     for (std::size_t k = 0; k < poses.size(); ++k) result.keyframes[k].world_from_cam = poses[k];
