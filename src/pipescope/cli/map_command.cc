@@ -100,6 +100,12 @@ nlohmann::json SectionsJson(const FisheyeMappingResult& result, const Trajectory
 
 nlohmann::json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+// A rotation as its axis times its angle, in degrees.
+nlohmann::json RotationVectorDeg(const Eigen::Matrix3d& rotation) {
+  const Eigen::AngleAxisd angle_axis(rotation);
+  return Vector(angle_axis.axis() * angle_axis.angle() * 180.0 / M_PI);
+}
+
 // run.json `loop_closure` (001 §III-E).
 nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
   nlohmann::json passes = nlohmann::json::array();
@@ -118,7 +124,8 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
                      {"runner_up_inliers", edge.runner_up_inliers},
                      {"accepted", edge.accepted},
                      {"rejection", edge.rejection},
-                     {"translation_m", Vector(edge.earlier_from_later.translation())}});
+                     {"translation_m", Vector(edge.earlier_from_later.translation())},
+                     {"rotation_vector_deg", RotationVectorDeg(edge.earlier_from_later.linear())}});
   }
   nlohmann::json revisits = nlohmann::json::array();
   for (const JunctionRevisit& revisit : record.revisits) {
@@ -126,7 +133,8 @@ nlohmann::json LoopClosureJson(const LoopClosureRecord& record) {
                         {"t_sections", revisit.t_sections},
                         {"gap_before_m", revisit.gap_before_m},
                         {"gap_after_m", revisit.gap_after_m},
-                        {"path_between_m", revisit.path_between_m}});
+                        {"path_between_m", revisit.path_between_m},
+                        {"gap_across_path_only", revisit.across_path_only}});
   }
   nlohmann::json turn_changes = nlohmann::json::array();
   for (const TTurnChange& change : record.t_turn_changes) {

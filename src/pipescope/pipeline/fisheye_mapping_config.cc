@@ -238,6 +238,14 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
           [](O& o) -> double& { return o.loop_closure.ambiguity_separation_radii; }, 0.0, 1000.0,
           "radii", "loop closure: how far along the later pass another place must lie"),
       Number<O>(
+          "loop_step_translation_sigma_m",
+          [](O& o) -> double& { return o.loop_closure.step_translation_sigma_m; }, 1e-6, 1.0, "m",
+          "loop closure: how far a straight section's key-frame step may move, on each axis"),
+      Number<O>(
+          "loop_step_rotation_sigma_deg",
+          [](O& o) -> double& { return o.loop_closure.step_rotation_sigma_deg; }, 1e-4, 180.0,
+          "deg", "loop closure: how far a straight section's key-frame step may turn"),
+      Number<O>(
           "loop_t_step_rotation_sigma_deg",
           [](O& o) -> double& { return o.loop_closure.t_step_rotation_sigma_deg; }, 0.001, 180.0,
           "deg", "loop closure: how far a step inside a T may turn (its own turn's edge aside)"),

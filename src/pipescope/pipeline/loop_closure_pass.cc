@@ -66,6 +66,14 @@ Eigen::Vector3d PathDirection(const std::vector<int>& keyframes,
   return at_end ? d : Eigen::Vector3d(-d);
 }
 
+// A passage whose travel lines before and after lie within 20 deg of parallel went straight
+// through its junction.
+bool PassesStraightThrough(const Eigen::Vector3d& direction_in,
+                           const Eigen::Vector3d& direction_out) {
+  const double b = direction_in.normalized().dot(direction_out.normalized());
+  return 1.0 - b * b < std::pow(std::sin(20.0 * kDegToRad), 2);
+}
+
 // Where the path turns at a T the model did not place: the midpoint of the closest approach of
 // the travel lines before and after it; for lines within 20 deg of parallel (a pass straight
 // through), the T section's middle key frame. Loop candidates only need the two passes' views to
@@ -73,9 +81,9 @@ Eigen::Vector3d PathDirection(const std::vector<int>& keyframes,
 Eigen::Vector3d PathCorner(const Eigen::Vector3d& end_before, const Eigen::Vector3d& direction_in,
                            const Eigen::Vector3d& start_after, const Eigen::Vector3d& direction_out,
                            const Eigen::Vector3d& t_middle) {
+  if (PassesStraightThrough(direction_in, direction_out)) return t_middle;
   const Eigen::Vector3d u = direction_in.normalized(), v = direction_out.normalized();
   const double b = u.dot(v);
-  if (1.0 - b * b < std::pow(std::sin(20.0 * kDegToRad), 2)) return t_middle;
   const Eigen::Vector3d w = end_before - start_after;
   const double s = (b * v.dot(w) - u.dot(w)) / (1.0 - b * b);
   const double t = (v.dot(w) - b * u.dot(w)) / (1.0 - b * b);
@@ -173,18 +181,31 @@ struct Passage {
   int keyframe_before = 0;  // the straight section's last key frame before it
   int t_record = -1;        // the adjusted T's record, -1: none
   int tee = -1;             // the plan's tee, -1: a dead end
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  PassageCentre centre;
 };
 
 double LargestGap(const std::vector<Passage>& passages, const std::vector<int>& indices) {
   double gap = 0.0;
   for (int a : indices) {
-    for (int b : indices) gap = std::max(gap, (passages[a].centre - passages[b].centre).norm());
+    for (int b : indices) gap = std::max(gap, PassageGap(passages[a].centre, passages[b].centre));
   }
   return gap;
 }
 
 }  // namespace
+
+double PassageGap(const PassageCentre& a, const PassageCentre& b) {
+  const Eigen::Vector3d d = b.point - a.point;
+  const auto across = [&d](const Eigen::Vector3d& direction) {
+    return (d - d.dot(direction) * direction).norm();
+  };
+  if (a.straight_through && b.straight_through) {
+    return std::max(across(a.through_direction), across(b.through_direction));
+  }
+  if (a.straight_through) return across(a.through_direction);
+  if (b.straight_through) return across(b.through_direction);
+  return d.norm();
+}
 
 std::vector<PoseGraphEdge> OdometryGraphEdges(const std::vector<Eigen::Isometry3d>& world_from_cam,
                                              const std::vector<int>& section_of,
@@ -248,7 +269,7 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
   std::vector<std::vector<int>> keyframes_of_section(input.section_straight.size());
   for (int k = 0; k < keyframe_count; ++k) keyframes_of_section[input.section_of[k]].push_back(k);
   const SectionOrder order = OrderSections(input.section_straight);
-  std::vector<Eigen::Vector3d> corners;  // per T between straight sections
+  std::vector<PassageCentre> corners;  // per T between straight sections
   for (std::size_t i = 0; i + 1 < order.straight.size(); ++i) {
     const std::vector<int>& before = keyframes_of_section[order.straight[i]];
     const std::vector<int>& after = keyframes_of_section[order.straight[i + 1]];
@@ -260,10 +281,13 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     record.turns.push_back(TurnDirection(in, out, up));
     const int t_section = order.t_between[i];
     const std::vector<int>& t_keyframes = t_section >= 0 ? keyframes_of_section[t_section] : before;
-    corners.push_back(
-        PathCorner((*world_from_cam)[before.back()].translation(), in,
-                   (*world_from_cam)[after.front()].translation(), out,
-                   (*world_from_cam)[t_keyframes[t_keyframes.size() / 2]].translation()));
+    PassageCentre corner;
+    corner.point = PathCorner((*world_from_cam)[before.back()].translation(), in,
+                              (*world_from_cam)[after.front()].translation(), out,
+                              (*world_from_cam)[t_keyframes[t_keyframes.size() / 2]].translation());
+    corner.straight_through = PassesStraightThrough(in, out);
+    corner.through_direction = (in.normalized() + out.normalized()).normalized();
+    corners.push_back(corner);
   }
   try {
     record.passes = NameSectionPasses(planned.network, planned.start, record.turns);
@@ -285,8 +309,11 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     passage.keyframe_before = keyframes_of_section[order.straight[i]].back();
     const auto found = t_record_of_section.find(order.t_between[i]);
     passage.t_record = found == t_record_of_section.end() ? -1 : found->second;
-    passage.centre =
-        passage.t_record >= 0 ? (*t_intersections)[passage.t_record].geometry.centre : corners[i];
+    if (passage.t_record >= 0) {
+      passage.centre.point = (*t_intersections)[passage.t_record].geometry.centre;
+    } else {
+      passage.centre = corners[i];
+    }
     const SectionPass& pass = record.passes[i];
     passage.tee = planned.sections[pass.section].tee_at_end[pass.toward_end];
     passages.push_back(passage);
@@ -302,6 +329,9 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     revisit.name = plan->tees[tee].name;
     for (int i : indices) revisit.t_sections.push_back(order.t_between[i]);
     revisit.gap_before_m = revisit.gap_after_m = LargestGap(passages, indices);
+    revisit.across_path_only = std::any_of(indices.begin(), indices.end(), [&](int i) {
+      return passages[i].centre.straight_through;
+    });
     for (int k = passages[indices.front()].keyframe_before;
          k < passages[indices.back()].keyframe_before; ++k) {
       revisit.path_between_m +=
@@ -516,8 +546,13 @@ LoopClosureRecord CloseLoops(const LoopClosureInput& input, const LoopClosurePas
     t.geometry.world_from_blue_camera = c * t.geometry.world_from_blue_camera;
   }
   for (Passage& passage : passages) {
-    passage.centre = passage.t_record >= 0 ? (*t_intersections)[passage.t_record].geometry.centre
-                                           : correction(passage.keyframe_before) * passage.centre;
+    if (passage.t_record >= 0) {
+      passage.centre.point = (*t_intersections)[passage.t_record].geometry.centre;
+    } else {
+      const Eigen::Isometry3d c = correction(passage.keyframe_before);
+      passage.centre.point = c * passage.centre.point;
+      passage.centre.through_direction = c.linear() * passage.centre.through_direction;
+    }
   }
   for (std::size_t r = 0; r < record.revisits.size(); ++r) {
     record.revisits[r].gap_after_m = LargestGap(passages, revisit_passages[r]);
@@ -544,7 +579,9 @@ std::vector<std::string> RevisitReasons(const LoopClosureRecord& record, double 
     if (RevisitHolds(record, revisit, max_gap_share)) continue;
     reasons.push_back("the run passed junction " + revisit.name + " " +
                       std::to_string(revisit.t_sections.size()) + " times and placed it up to " +
-                      std::to_string(RevisitGap(record, revisit)) + " m apart over " +
+                      std::to_string(RevisitGap(record, revisit)) + " m apart" +
+                      (revisit.across_path_only ? " (across the straight-through path)" : "") +
+                      " over " +
                       std::to_string(revisit.path_between_m) + " m of path" +
                       (record.applied ? " after loop closure" : " (no loop closure)"));
   }

@@ -107,7 +107,23 @@ struct JunctionRevisit {
   double gap_before_m = 0.0;
   double gap_after_m = 0.0;     // after the closure; equal to gap_before_m when none was applied
   double path_between_m = 0.0;  // key frame path from the first passage's P_r to the last's
+  // A passage straight through the junction does not say where along its path the centre lies
+  // (nothing turns there), so the gaps then count only the distance across that path.
+  bool across_path_only = false;
 };
+
+// Where one passage put a junction's centre. A passage straight through it (no turn) knows its
+// path there, not the centre's place along it: `point` is then the T section's middle key frame
+// and `through_direction` the path's direction.
+struct PassageCentre {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  bool straight_through = false;
+  Eigen::Vector3d through_direction = Eigen::Vector3d::UnitZ();
+};
+
+// The distance between two passages' centres of one junction, counting for a straight-through
+// passage only the part across its path (both straight through: the larger of the two).
+double PassageGap(const PassageCentre& a, const PassageCentre& b);
 
 // How much the closure turned one T: the rotation between its P_r and P_b after the closure
 // against before it. The closure changes a corner's angle where the graph lets it; these tell

@@ -99,5 +99,31 @@ TEST(LoopClosurePass, GraphEdgesCarryEachTsTurnOnOneRobustEdge) {
             11u);
 }
 
+// A passage straight through a junction knows its path there, not where along it the centre
+// lies: the gap to it counts only the part across that path. Route B's first passage of T1 put
+// its centre (the T section's middle key frame) 0.121 m along the pipe from the true centre.
+TEST(LoopClosurePass, AStraightThroughPassageCountsOnlyTheGapAcrossItsPath) {
+  PassageCentre turned;  // an adjusted T's centre
+  turned.point = Eigen::Vector3d(1.0, 2.0, 3.0);
+  PassageCentre through;
+  through.point = turned.point + Eigen::Vector3d(0.121, 0.003, -0.004);
+  through.straight_through = true;
+  through.through_direction = Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(PassageGap(turned, through), 0.005, 1e-12);
+  EXPECT_NEAR(PassageGap(through, turned), 0.005, 1e-12);
+
+  // Two turned passages: the whole distance.
+  PassageCentre other = turned;
+  other.point += Eigen::Vector3d(0.121, 0.003, -0.004);
+  EXPECT_NEAR(PassageGap(turned, other), std::sqrt(0.121 * 0.121 + 0.000025), 1e-12);
+
+  // Both straight through, along different directions: the larger distance across.
+  PassageCentre through_y = through;
+  through_y.point = turned.point;
+  through_y.through_direction = Eigen::Vector3d::UnitY();
+  // Across x: |(0.003, -0.004)| = 0.005; across y: |(0.121, -0.004)|.
+  EXPECT_NEAR(PassageGap(through, through_y), std::hypot(0.121, 0.004), 1e-12);
+}
+
 }  // namespace
 }  // namespace pipescope
