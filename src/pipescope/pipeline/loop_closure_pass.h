@@ -58,20 +58,28 @@ struct LoopClosurePassOptions {
   // within a radius of each other and turned by less than this, or the edge is refused.
   double max_edge_rotation_deg = 20.0;
   // The pose graph's edges (standard deviations on every axis): odometry steps; loop edges.
+  // A straight step's rotation sigma is set by what its errors add up to over a section, not by
+  // one step's (route B's 4400 frames, bench/fisheye_step_errors.py: 0.074 deg RMS a step, but
+  // 0.34 deg over 400 steps, where independent errors would give 1.5 deg; 0.01 deg a step gives
+  // 0.2 deg over 400), so that a closure cannot bend a straight section more cheaply than it
+  // turns a corner. The translation's 1 mm is loose (0.05-0.06 mm RMS a step, along and across),
+  // but 0.1 mm moved no T-to-T distance by more than 0.05 % on the two seeds replayed, with this
+  // graph or the one before (docs/fisheye_mapping.md).
   double step_translation_sigma_m = 0.001;
-  double step_rotation_sigma_deg = 0.05;
-  // Inside a T section a step's rotation has t_step_rotation_sigma_deg (ten times a straight
-  // step's: a T's angle is what the map knows least well). Optionally (t_turn_sigma_deg above 0)
-  // each T's turn, P_r to P_b as the T pass left it, is also one edge of its own with Huber's
-  // loss beyond t_turn_huber_sigmas (0: squared), so that a loop that must close puts one wrong
-  // corner's error on that corner instead of spreading it over all (on a four-T loop, as a
-  // shear). Not the default: measured once (route B's 4400 frames, default seed), it took T2's
-  // turn error from +5.2 to +1.1 degrees but left the sides 0.26-0.61 % and the diagonals 0.39-
-  // 0.49 % off; apparently the straight steps' 1 mm of translation slack per 1 cm step lets the
-  // closure bend the path there instead (docs/fisheye_mapping.md).
-  double t_step_rotation_sigma_deg = 0.5;
-  double t_turn_sigma_deg = 0.0;
-  double t_turn_huber_sigmas = 1.0;
+  double step_rotation_sigma_deg = 0.01;
+  // Inside a T section a step's rotation has t_step_rotation_sigma_deg: a T's angle is what the
+  // map knows least well. Each T's turn, P_r to P_b as the T pass left it, is also one edge of
+  // its own (t_turn_sigma_deg above 0) with Huber's loss beyond t_turn_huber_sigmas (0:
+  // squared), so that a loop that must close puts one wrong corner's error on that corner
+  // instead of spreading it over all. What a closure cannot see (on a four-T loop, a shear of the
+  // corners, +t -t +t -t, keeps the loop closed) is then set by the robust loss's preference for
+  // few wrong corners rather than by an even spread. Chosen on route B's 4400 frames (default
+  // seed; replayed offline, bench/pose_graph_replay.py) and checked on seed 43: the six T-to-T
+  // distances 0.373 and 0.064 % off at worst, against 0.622 and 0.367 % with squared errors
+  // and every T step at 0.5 deg (docs/fisheye_mapping.md, "Where a closure bends the path").
+  double t_step_rotation_sigma_deg = 1.0;
+  double t_turn_sigma_deg = 0.5;
+  double t_turn_huber_sigmas = 0.5;
   // A straight step no applied window confirmed rests on the single step's scale and rotation
   // (docs/fisheye_mapping.md: such sections came out up to 57 % short): both its sigmas times
   // this.
