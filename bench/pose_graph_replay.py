@@ -21,7 +21,9 @@ Needs numpy, scipy and PyYAML. Usage:
   bench/pose_graph_replay.py RUN_DIR DATASET_DIR [--step-t M] [--step-r DEG] [--t-step-r DEG]
       [--t-turn DEG] [--t-turn-huber K] [--unconfirmed-factor F] [--loop-t M] [--loop-r DEG]
       [--out TUM]
-The defaults are `map`'s (loop_step_translation_sigma_m ... in a --config).
+The defaults are `map`'s (loop_step_translation_sigma_m, loop_step_rotation_sigma_deg,
+loop_t_step_rotation_sigma_deg, loop_t_turn_sigma_deg, loop_t_turn_huber_sigmas in a --config);
+the graph before the twenty-sixth session: --step-r 0.05 --t-step-r 0.5 --t-turn 0.
 """
 import argparse
 import json
@@ -167,10 +169,10 @@ def main():
     parser.add_argument("run")
     parser.add_argument("dataset")
     parser.add_argument("--step-t", type=float, default=0.001)
-    parser.add_argument("--step-r", type=float, default=0.05)
-    parser.add_argument("--t-step-r", type=float, default=0.5)
-    parser.add_argument("--t-turn", type=float, default=0.0)
-    parser.add_argument("--t-turn-huber", type=float, default=1.0)
+    parser.add_argument("--step-r", type=float, default=0.01)
+    parser.add_argument("--t-step-r", type=float, default=1.0)
+    parser.add_argument("--t-turn", type=float, default=0.5)
+    parser.add_argument("--t-turn-huber", type=float, default=0.5)
     parser.add_argument("--unconfirmed-factor", type=float, default=20.0)
     parser.add_argument("--loop-t", type=float, default=0.005)
     parser.add_argument("--loop-r", type=float, default=0.5)
