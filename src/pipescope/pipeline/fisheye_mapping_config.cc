@@ -240,7 +240,7 @@ const OptionTable<FisheyeMappingOptions>& FisheyeMappingOptionTable() {
       Number<O>(
           "loop_step_translation_sigma_m",
           [](O& o) -> double& { return o.loop_closure.step_translation_sigma_m; }, 1e-6, 1.0, "m",
-          "loop closure: how far a straight section's key-frame step may move, on each axis"),
+          "loop closure: how far a key-frame step may move, on each axis (in a T too)"),
       Number<O>(
           "loop_step_rotation_sigma_deg",
           [](O& o) -> double& { return o.loop_closure.step_rotation_sigma_deg; }, 1e-4, 180.0,
