@@ -18,17 +18,18 @@ import sys
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+sys.path.insert(0, __file__.rsplit("/", 1)[0])
+from pose_graph_replay import read_tum  # noqa: E402
+
 
 def read_poses(path):
+    """world_from_cam as 4x4 matrices, by timestamp rounded to the microsecond."""
+    stamps, positions, rotations = read_tum(path)
     poses = {}
-    for line in open(path):
-        if line.startswith("#") or not line.strip():
-            continue
-        values = [float(v) for v in line.split()]
+    for stamp, position, rotation in zip(stamps, positions, rotations.as_matrix()):
         pose = np.eye(4)
-        pose[:3, :3] = Rotation.from_quat(values[4:8]).as_matrix()
-        pose[:3, 3] = values[1:4]
-        poses[round(values[0], 6)] = pose
+        pose[:3, :3], pose[:3, 3] = rotation, position
+        poses[round(stamp, 6)] = pose
     return poses
 
 

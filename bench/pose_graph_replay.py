@@ -195,10 +195,9 @@ def main():
             for s, pos, q in zip(stamps, p, r.as_quat()):
                 out.write(f"{s:.9f} {' '.join(f'{v:.12g}' for v in (*pos, *q))}\n")
 
-    truth = {round(v[0], 6): np.array(v[1:4]) for v in
-             ([float(x) for x in line.split()] for line in open(f"{args.dataset}/groundtruth.tum")
-              if line.strip() and not line.startswith("#"))}
-    true_positions = np.array([truth[round(s, 6)] for s in stamps])
+    truth_stamps, truth_positions, _ = read_tum(f"{args.dataset}/groundtruth.tum")
+    row_of = {round(s, 6): i for i, s in enumerate(truth_stamps)}
+    true_positions = truth_positions[[row_of[round(s, 6)] for s in stamps]]
     lines = []
     for section in run["sections"]:
         first, last = section["first_keyframe"], section["last_keyframe"]
