@@ -213,6 +213,7 @@ nlohmann::json TIntersectionsJson(const FisheyeMappingResult& result,
       entry["red_points"] = t.summary.red_points;
       entry["blue_points"] = t.summary.blue_points;
       entry["seconds"] = t.summary.seconds;
+      entry["stage_iterations"] = t.summary.stage_iterations;
     }
     if (t.rejection.empty()) {
       entry["blue_shift_m"] = t.blue_shift_m;

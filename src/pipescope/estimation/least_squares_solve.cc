@@ -31,6 +31,8 @@ LeastSquaresOutcome SolveLeastSquares(ceres::Problem* problem,
   ceres::Solve(solver, problem, &summary);
   outcome.final_rms = UnrobustRms(problem, observations);
   outcome.usable = summary.IsSolutionUsable();
+  outcome.schur_structure = summary.schur_structure_used;
+  outcome.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
   return outcome;
 }
 

@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include <string>
+
 namespace pipescope {
 
 struct LeastSquaresOutcome {
@@ -9,6 +11,10 @@ struct LeastSquaresOutcome {
   // Root mean square of the residual values before and after, without the robust losses.
   double initial_rms = 0.0;
   double final_rms = 0.0;
+  // The block sizes Ceres' Schur elimination ran with ("2,3,d": residual rows, eliminated
+  // block, other blocks; "d,d,d" is its slowest, all-dynamic kernel). Empty for other solvers.
+  std::string schur_structure;
+  int iterations = 0;  // Levenberg-Marquardt steps taken, successful or not
 };
 
 // Every nonlinear least-squares problem of the estimators is solved here: Ceres'

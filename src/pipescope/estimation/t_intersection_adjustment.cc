@@ -3,8 +3,10 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
+#include "pipescope/estimation/fisheye_reprojection_cost.h"
 #include "pipescope/estimation/fisheye_reprojection_error.h"
 #include "pipescope/estimation/least_squares_solve.h"
 #include "pipescope/estimation/mad_outliers.h"
@@ -116,7 +118,17 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
-    ceres::QuaternionManifold quaternion_manifold;
+    ceres::ProductManifold<ceres::QuaternionManifold, ceres::EuclideanManifold<3>> pose_manifold;
+    // Each pose before P_b is one 7-parameter block (quaternion, translation) with eq. 3's
+    // Jacobians written out, as in the straight windows: the Schur elimination then updates
+    // about (m + 1)^2 cells of the reduced system per point seen m times (the model its +1)
+    // instead of (2m + 1)^2.
+    std::vector<std::array<double, 7>> pose_blocks(blue_index);
+    for (int p = 0; p < blue_index; ++p) {
+      std::copy(problem->poses[p].rotation, problem->poses[p].rotation + 4, pose_blocks[p].begin());
+      std::copy(problem->poses[p].translation, problem->poses[p].translation + 3,
+                pose_blocks[p].begin() + 4);
+    }
     const std::vector<int> counts = InlierCounts(*problem);
     for (const WindowObservation& observation : problem->observations) {
       if (!observation.inlier || counts[observation.point] < 2) continue;
@@ -128,10 +140,10 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
                                                 observation.pixel),
             loss, problem->model, point);
       } else {
-        WindowPose& pose = problem->poses[observation.pose];
         ceres_problem.AddResidualBlock(
-            FisheyeReprojectionError::Create(camera.ModelId(), camera.Params(), observation.pixel),
-            loss, pose.rotation, pose.translation, point);
+            new FisheyePoseBlockReprojectionCost(camera.ModelId(), camera.Params(),
+                                                 observation.pixel),
+            loss, pose_blocks[observation.pose].data(), point);
       }
     }
     // Each estimated point against the wall nearer to it now (Fig. 4c); the assignment is
@@ -140,18 +152,20 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
     for (std::size_t k = 0; k < problem->points.size(); ++k) {
       if (counts[k] < 2) continue;
       const bool blue = Assign(*problem, problem->points[k], options.radius_m).blue;
-      ceres_problem.AddResidualBlock(
-          TIntersectionCylinderError::Create(constants, blue, options.radius_m, options.tau),
-          new ceres::HuberLoss(options.huber_px), problem->model, problem->points[k].data());
+      ceres::CostFunction* wall =
+          TIntersectionCylinderError::Create(constants, blue, options.radius_m, options.tau);
+      ceres::LossFunction* loss = new ceres::HuberLoss(options.huber_px);
+      if (blue) {
+        ceres_problem.AddResidualBlock(wall, loss, problem->model, problem->points[k].data());
+      } else {
+        ceres_problem.AddResidualBlock(wall, loss, problem->points[k].data());
+      }
     }
     for (int p = 0; p < blue_index; ++p) {
-      WindowPose& pose = problem->poses[p];
-      if (!ceres_problem.HasParameterBlock(pose.rotation)) continue;
-      ceres_problem.SetManifold(pose.rotation, &quaternion_manifold);
-      if (p == 0) {  // P_r: the gauge
-        ceres_problem.SetParameterBlockConstant(pose.rotation);
-        ceres_problem.SetParameterBlockConstant(pose.translation);
-      }
+      double* pose = pose_blocks[p].data();
+      if (!ceres_problem.HasParameterBlock(pose)) continue;
+      ceres_problem.SetManifold(pose, &pose_manifold);
+      if (p == 0) ceres_problem.SetParameterBlockConstant(pose);  // P_r: the gauge
     }
     if (!ceres_problem.HasParameterBlock(problem->model)) break;
     ceres::SubsetManifold held_phi(kTIntersectionParameters, {kPhi});
@@ -160,6 +174,12 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
         SolveLeastSquares(&ceres_problem, ceres::DENSE_SCHUR, options.max_iterations_per_stage, 0,
                           options.num_threads);
     summary.usable = outcome.usable;
+    summary.schur_structure = outcome.schur_structure;
+    summary.stage_iterations.push_back(outcome.iterations);
+    for (int p = 1; p < blue_index; ++p) {
+      std::copy(pose_blocks[p].begin(), pose_blocks[p].begin() + 4, problem->poses[p].rotation);
+      std::copy(pose_blocks[p].begin() + 4, pose_blocks[p].end(), problem->poses[p].translation);
+    }
     problem->poses.back() = WindowPose::FromIsometry(BlueCamFromWorld(*problem));
     if (stage + 1 < stages) summary.outliers_removed += RemoveOutliers(camera, options, problem);
   }

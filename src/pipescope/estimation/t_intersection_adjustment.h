@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "pipescope/camera/camera.h"
@@ -51,6 +52,8 @@ struct TIntersectionSummary {
   int blue_points = 0;
   bool usable = false;  // Ceres found a usable solution
   double seconds = 0.0;
+  std::string schur_structure;       // the last solve's (LeastSquaresOutcome::schur_structure)
+  std::vector<int> stage_iterations;  // Levenberg-Marquardt iterations of each stage's solve
 };
 
 // Solves the problem in place: the model, poses[1 ..] and the points. poses.back() is set from

@@ -70,37 +70,59 @@ class BlueCameraReprojectionError {
 
 // Eq. 6 against one of the two cylinders: sqrt(tau) (sqrt(X~^2 + Y~^2) - r) with X~ the point in
 // the red cylinder's frame, or in the blue one's (D^-1 of it) for a point assigned to blue.
-// Parameters: the model (5) and the point (3).
+// Parameters: for a point on the blue wall the model (5) and the point (3); on the red wall the
+// point alone, since C_r and P_r are held and the model does not enter (Create's `blue`).
+//
+// A second residual, always zero, pads the term to two rows like the reprojection errors, as
+// StraightCylinderCost does: with every residual of a point two rows long, Ceres' Schur
+// elimination of the points takes its fixed-size <2, 3, dynamic> kernels instead of the
+// all-dynamic one. The cost is unchanged.
 class TIntersectionCylinderError {
  public:
-  TIntersectionCylinderError(const TIntersectionConstants& constants, bool blue, double radius,
-                             double tau)
-      : constants_(constants), blue_(blue), radius_(radius), sqrt_tau_(std::sqrt(tau)) {}
+  TIntersectionCylinderError(const TIntersectionConstants& constants, double radius, double tau)
+      : constants_(constants), radius_(radius), sqrt_tau_(std::sqrt(tau)) {}
 
   template <typename T>
   bool operator()(const T* model, const T* point_world, T* residual) const {
-    T red_cylinder[4];
-    for (int k = 0; k < 4; ++k) red_cylinder[k] = T(constants_.red_cylinder[k]);
-    Eigen::Matrix<T, 3, 1> point =
-        CylinderFromCamera(red_cylinder) * (constants_.red_cam_from_world.cast<T>() *
-                                            Eigen::Map<const Eigen::Matrix<T, 3, 1>>(point_world));
-    if (blue_) point = RedCylinderFromBlueCylinder(model).inverse() * point;
-    residual[0] =
-        T(sqrt_tau_) *
-        (ceres::sqrt(point.x() * point.x() + point.y() * point.y() + T(1e-18)) - T(radius_));
+    const Eigen::Matrix<T, 3, 1> point =
+        RedCylinderFromBlueCylinder(model).inverse() * InRedCylinder(point_world);
+    WallResidual(point, residual);
+    return true;
+  }
+
+  template <typename T>
+  bool operator()(const T* point_world, T* residual) const {
+    WallResidual(InRedCylinder(point_world), residual);
     return true;
   }
 
   static ceres::CostFunction* Create(const TIntersectionConstants& constants, bool blue,
                                      double radius, double tau) {
-    return new ceres::AutoDiffCostFunction<TIntersectionCylinderError, 1, kTIntersectionParameters,
-                                           3>(
-        new TIntersectionCylinderError(constants, blue, radius, tau));
+    auto* error = new TIntersectionCylinderError(constants, radius, tau);
+    if (!blue) return new ceres::AutoDiffCostFunction<TIntersectionCylinderError, 2, 3>(error);
+    return new ceres::AutoDiffCostFunction<TIntersectionCylinderError, 2, kTIntersectionParameters,
+                                           3>(error);
   }
 
  private:
+  template <typename T>
+  Eigen::Matrix<T, 3, 1> InRedCylinder(const T* point_world) const {
+    T red_cylinder[4];
+    for (int k = 0; k < 4; ++k) red_cylinder[k] = T(constants_.red_cylinder[k]);
+    return CylinderFromCamera(red_cylinder) *
+           (constants_.red_cam_from_world.cast<T>() *
+            Eigen::Map<const Eigen::Matrix<T, 3, 1>>(point_world));
+  }
+
+  template <typename T>
+  void WallResidual(const Eigen::Matrix<T, 3, 1>& point, T* residual) const {
+    residual[0] =
+        T(sqrt_tau_) *
+        (ceres::sqrt(point.x() * point.x() + point.y() * point.y() + T(1e-18)) - T(radius_));
+    residual[1] = T(0.0);
+  }
+
   TIntersectionConstants constants_;
-  bool blue_;
   double radius_;
   double sqrt_tau_;
 };
