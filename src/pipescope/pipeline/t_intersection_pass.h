@@ -61,7 +61,7 @@ struct TIntersectionPassOptions {
   // keeping the least score again: an adjustment ends near the phi it starts from (the images
   // say little about a T's angle), and the chain's turn can be far off (11.6 degrees at route
   // A's T2, seed 41). Not when the fittings' angle is given. Eight starts of the whole T cost
-  // about 75 s a T on this machine.
+  // about 45 s a T on this machine (docs/fisheye_mapping.md, "The T pass's speed").
   std::vector<double> start_phi_offsets_deg = {-16.0, -12.0, -8.0, -4.0, 4.0, 8.0, 12.0, 16.0};
 };
 
