@@ -110,6 +110,18 @@ Eigen::Isometry3d WindowPose::ToIsometry() const {
   return result;
 }
 
+std::array<double, 7> WindowPose::ToBlock() const {
+  std::array<double, 7> block;
+  std::copy(rotation, rotation + 4, block.begin());
+  std::copy(translation, translation + 3, block.begin() + 4);
+  return block;
+}
+
+void WindowPose::SetFromBlock(const std::array<double, 7>& block) {
+  std::copy(block.begin(), block.begin() + 4, rotation);
+  std::copy(block.begin() + 4, block.end(), translation);
+}
+
 double FitStraightCylinder(const StraightWindowOptions& options, StraightWindow* window) {
   if (window->points.empty() || window->poses.empty()) return 0.0;
   ceres::Problem problem;
@@ -155,9 +167,7 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
     // (2m + 3)^2, and locks as many mutexes.
     std::vector<std::array<double, 7>> pose_blocks(window->poses.size());
     for (std::size_t k = 1; k < window->poses.size(); ++k) {
-      std::copy(window->poses[k].rotation, window->poses[k].rotation + 4, pose_blocks[k].begin());
-      std::copy(window->poses[k].translation, window->poses[k].translation + 3,
-                pose_blocks[k].begin() + 4);
+      pose_blocks[k] = window->poses[k].ToBlock();
     }
     const std::vector<int> observation_count = InlierCounts(*window);
     for (const WindowObservation& observation : window->observations) {
@@ -216,8 +226,7 @@ StraightWindowSummary OptimiseStraightWindow(const Camera& camera,
                                  : options.max_iterations_before_outlier_removal,
                       0, options.num_threads);
     for (std::size_t k = 1; k < window->poses.size(); ++k) {
-      std::copy(pose_blocks[k].begin(), pose_blocks[k].begin() + 4, window->poses[k].rotation);
-      std::copy(pose_blocks[k].begin() + 4, pose_blocks[k].end(), window->poses[k].translation);
+      window->poses[k].SetFromBlock(pose_blocks[k]);
     }
 
     if (stage + 1 >= options.stages) break;

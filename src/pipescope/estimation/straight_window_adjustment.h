@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -58,6 +59,10 @@ struct WindowPose {
 
   static WindowPose FromIsometry(const Eigen::Isometry3d& cam_from_world);
   Eigen::Isometry3d ToIsometry() const;
+  // The pose as one 7-parameter block (quaternion, then translation), for the adjustments that
+  // give Ceres each pose as a single block, and back.
+  std::array<double, 7> ToBlock() const;
+  void SetFromBlock(const std::array<double, 7>& block);
 };
 
 struct WindowObservation {

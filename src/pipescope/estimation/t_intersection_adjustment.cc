@@ -124,11 +124,7 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
     // about (m + 1)^2 cells of the reduced system per point seen m times (the model its +1)
     // instead of (2m + 1)^2.
     std::vector<std::array<double, 7>> pose_blocks(blue_index);
-    for (int p = 0; p < blue_index; ++p) {
-      std::copy(problem->poses[p].rotation, problem->poses[p].rotation + 4, pose_blocks[p].begin());
-      std::copy(problem->poses[p].translation, problem->poses[p].translation + 3,
-                pose_blocks[p].begin() + 4);
-    }
+    for (int p = 0; p < blue_index; ++p) pose_blocks[p] = problem->poses[p].ToBlock();
     const std::vector<int> counts = InlierCounts(*problem);
     for (const WindowObservation& observation : problem->observations) {
       if (!observation.inlier || counts[observation.point] < 2) continue;
@@ -176,10 +172,7 @@ TIntersectionSummary OptimiseTIntersection(const Camera& camera,
     summary.usable = outcome.usable;
     summary.schur_structure = outcome.schur_structure;
     summary.stage_iterations.push_back(outcome.iterations);
-    for (int p = 1; p < blue_index; ++p) {
-      std::copy(pose_blocks[p].begin(), pose_blocks[p].begin() + 4, problem->poses[p].rotation);
-      std::copy(pose_blocks[p].begin() + 4, pose_blocks[p].end(), problem->poses[p].translation);
-    }
+    for (int p = 1; p < blue_index; ++p) problem->poses[p].SetFromBlock(pose_blocks[p]);
     problem->poses.back() = WindowPose::FromIsometry(BlueCamFromWorld(*problem));
     if (stage + 1 < stages) summary.outliers_removed += RemoveOutliers(camera, options, problem);
   }

@@ -60,8 +60,9 @@ struct TIntersectionPassOptions {
   // ... and then, at the chosen scale, from phi turned by each of these from the chained turn,
   // keeping the least score again: an adjustment ends near the phi it starts from (the images
   // say little about a T's angle), and the chain's turn can be far off (11.6 degrees at route
-  // A's T2, seed 41). Not when the fittings' angle is given. Eight starts of the whole T cost
-  // about 45 s a T on this machine (docs/fisheye_mapping.md, "The T pass's speed").
+  // A's T2, seed 41). Not when the fittings' angle is given. All sixteen starts of
+  // the test network's one T took 106 s on this machine (docs/fisheye_mapping.md, "The T
+  // pass's speed").
   std::vector<double> start_phi_offsets_deg = {-16.0, -12.0, -8.0, -4.0, 4.0, 8.0, 12.0, 16.0};
 };
 
