@@ -528,6 +528,19 @@ int RunOdometry(const OdometryFlags& flags) {
   long long key_frames = 0;
   for (const DenseFrameRecord& frame : result.frames) key_frames += frame.key_frame ? 1 : 0;
   report.SetCount("key_frames", key_frames);
+  if (!result.cross_section_warning.empty()) report.Warn(result.cross_section_warning);
+  if (result.cross_section_alignments + result.cross_section_rejections > 0) {
+    report.SetCount("key_frames_cross_section_measured", result.cross_section_alignments);
+    report.SetCount("key_frames_cross_section_rejected", result.cross_section_rejections);
+    report.SetCount("key_frames_cross_section_faint", result.cross_section_faint);
+    std::vector<double> sigmas = result.cross_section_sigmas_m;
+    if (!sigmas.empty()) {
+      std::sort(sigmas.begin(), sigmas.end());
+      report.Extra("cross_section_sigma_mm") = {
+          {"median", 1000.0 * sigmas[sigmas.size() / 2]},
+          {"p90", 1000.0 * sigmas[sigmas.size() * 9 / 10]}};
+    }
+  }
   report.AddTiming("odometry", result.registration_seconds);
   report.AddStageTimes("odometry", result.stage_times);
   report.AddTiming("odometry_loop_cpu", result.loop_cpu_seconds);

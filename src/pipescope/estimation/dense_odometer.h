@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <deque>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "pipescope/dense/dense_pair_registration.h"
 #include "pipescope/dense/motion_prediction.h"
 #include "pipescope/dense/unrolled_wall_registration.h"
+#include "pipescope/estimation/cross_section_alignment.h"
 #include "pipescope/geometry/camera_mount.h"
 #include "pipescope/image/dense_frame_preparation.h"
 #include "pipescope/io/image_source.h"
@@ -116,6 +118,23 @@ struct DenseOdometerOptions {
   // drift and tilt cause fell from 0.035 % to 0.011 % (steel-6in, 8 seeds) and from 0.041 % to
   // 0.021 % (steel-16in, 4 seeds; docs/dense_vo.md).
   DenseMethod unrolled_registration = DenseMethod::kPhase;
+  // dense-unrolled: at every key frame, the crawler's place in the cross-section is measured by
+  // aligning the new key frame with an earlier one as wholes on the cylinder (issue 22, item 2;
+  // estimation/cross_section_alignment.h), instead of being held where it started. "auto":
+  // where the view sees the wall's curvature (estimation/wall_distance_observability.h); "on",
+  // "off".
+  std::string measure_cross_section = "auto";
+  CrossSectionAlignmentOptions cross_section;
+  // An alignment that moves the camera across the pipe by more than this share of the radius
+  // in one key-frame step is not taken (the crawler cannot), nor one that did not converge,
+  // nor one made while the frames are too faint: the median of the last eight alignments'
+  // residual spreads above CrossSectionAlignmentOptions::max_residual_sigma (and before there
+  // are eight).
+  double max_cross_section_step = 0.03;
+  // A new key frame is aligned with the latest earlier one at least this share of the unrolled
+  // grid's length behind it (or the oldest of the last eight): the offset shows as the
+  // parallax of the step, which grows with it.
+  double cross_section_baseline_fraction = 0.33;
 };
 
 // What happened to one frame.
@@ -206,6 +225,16 @@ class DenseOdometer {
   const UnrolledWallRegistration* unrolled() const { return unrolled_.get(); }
   // Time spent "preparing" the frames and "registering" them, over all steps.
   const StageTimes& stage_times() const { return stage_times_; }
+  // dense-unrolled with measure_cross_section: the key frames whose alignment was taken, and
+  // those whose was not.
+  bool measures_cross_section() const { return aligner_ != nullptr; }
+  int cross_section_alignments() const { return cross_section_alignments_; }
+  int cross_section_rejections() const { return cross_section_rejections_; }
+  // ... of which, those made while the frames were too faint
+  // (CrossSectionAlignmentOptions::max_residual_sigma).
+  int cross_section_faint() const { return cross_section_faint_; }
+  // Every alignment's CrossSectionAlignment::offset_sigma_m, in order.
+  const std::vector<double>& cross_section_sigmas() const { return cross_section_sigmas_; }
 
  private:
   struct KeyFrame {
@@ -216,7 +245,18 @@ class DenseOdometer {
   };
 
   // The registered image of a frame: prepared (or unrolled), filtered, cut to the band.
-  cv::Mat Registered(const cv::Mat& grey, cv::Mat* mosaic_frame) const;
+  // dense-unrolled's `downsampled` frame (the gain-corrected block means) is kept.
+  cv::Mat Registered(const cv::Mat& grey, cv::Mat* mosaic_frame, cv::Mat* downsampled) const;
+  // The registered image of dense-unrolled's downsampled frame, or of the planar methods'
+  // prepared frame.
+  cv::Mat Filtered(cv::Mat current) const;
+  // measure_cross_section, at a new key frame: the key frame's place across the pipe from its
+  // alignment with an earlier one (cross_section_baseline_fraction); moves start_ there and
+  // rebuilds the unrolled grid for it; false when the alignment is not taken. The key's travel and roll stay the
+  // registration's (phase correlation on the unrolled wall measures them better than the
+  // alignment, whose travel came out 0.15 % short from the true poses in its test; an offset
+  // changes little over one key-frame step).
+  bool MeasureCrossSection(const cv::Mat& aligned, double travel, double roll);
   std::optional<double> FractionTarget() const;
 
   DenseOdometerOptions options_;
@@ -231,7 +271,26 @@ class DenseOdometer {
   bool presmooth_ = false;
   bool normalise_contrast_ = false;
   double key_shift_fraction_ = 0.0;
+  // The pose at no travel and no roll; dense-unrolled with measure_cross_section moves it
+  // across the pipe as the key frames measure the crawler's place.
   Eigen::Isometry3d start_ = Eigen::Isometry3d::Identity();
+  const Camera& camera_;
+  double radius_ = 0.0;
+  double zeta_ = 0.0;
+  std::unique_ptr<CrossSectionAligner> aligner_;
+  // measure_cross_section: the last key frames registered without failure, as the aligner
+  // takes them, with their poses.
+  struct AlignedKey {
+    cv::Mat image;
+    Eigen::Isometry3d pose;
+    double travel = 0.0, roll = 0.0;
+  };
+  std::deque<AlignedKey> aligned_keys_;
+  int cross_section_alignments_ = 0;
+  int cross_section_rejections_ = 0;  // including the faint ones
+  int cross_section_faint_ = 0;
+  std::vector<double> cross_section_sigmas_;
+  std::deque<double> recent_residual_sigmas_;  // the last alignments' residual spreads
   cv::Rect band_;
   cv::Point2d band_principal_point_, band_centre_;
   double axial_ratio_ = 1.0;

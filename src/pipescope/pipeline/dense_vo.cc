@@ -87,7 +87,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   result.wall_distance =
       MakeWallDistanceStatement(camera, options.mount, radius,
                                 radius > 0.0 ? wall_distance : CentralFocalLengthPx(camera) / zeta,
-                                "reference_scale_px_per_m", false);
+                                "reference_scale_px_per_m", odometer.measures_cross_section());
   ImageMosaic image_mosaic(options.mosaic_spacing_px);
   ImageSourceOptions source_options{camera.Width(), camera.Height()};
   source_options.native_depth = true;  // the preparation converts in its first pass
@@ -112,6 +112,21 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   result.registration_seconds = timer.ElapsedSeconds();
   result.loop_cpu_seconds = cpu_timer.ElapsedSeconds();
   result.stage_times.Merge(odometer.stage_times());
+  result.cross_section_alignments = odometer.cross_section_alignments();
+  result.cross_section_rejections = odometer.cross_section_rejections();
+  result.cross_section_sigmas_m = odometer.cross_section_sigmas();
+  result.cross_section_faint = odometer.cross_section_faint();
+  const int aligned = result.cross_section_alignments + result.cross_section_rejections;
+  if (odometer.measures_cross_section() && aligned > 0 &&
+      2 * result.cross_section_alignments < aligned) {
+    // Most key frames held the place of the one before: the run's scale rests on the start's.
+    result.wall_distance.method_measures = false;
+    result.cross_section_warning =
+        "dense-unrolled measured the camera's place across the pipe at only " +
+        std::to_string(result.cross_section_alignments) + " of " + std::to_string(aligned) +
+        " key frames (" + std::to_string(result.cross_section_faint) +
+        " too faint or noisy to align): its scale rests on the start's wall distance";
+  }
   result.skipped_frames = source->skipped_frames();
   if (result.frames.empty()) {
     throw InputError(ManifestName(manifest) + ": no readable frames");

@@ -31,9 +31,18 @@ struct DenseVoResult {
   // CPU seconds of the frame loop's own thread (frames are decoded on another): the cost of
   // preparing and registering on one core, unaffected by a busy machine's waits.
   double loop_cpu_seconds = 0.0;
-  // The wall distance the method holds fixed (the reference scale's), and whether the view could
-  // measure it.
+  // The start's wall distance (the reference scale's), whether the method measures it along the
+  // run (dense-unrolled where the view sees the wall's curvature) and whether the view could.
   WallDistanceStatement wall_distance;
+  // dense-unrolled measuring the cross-section: the key frames whose alignment was taken, and
+  // those whose was not (they kept the place of the key frame before).
+  int cross_section_alignments = 0;
+  int cross_section_rejections = 0;
+  std::vector<double> cross_section_sigmas_m;  // DenseOdometer::cross_section_sigmas()
+  int cross_section_faint = 0;                  // rejections: frames mostly noise
+  // Set when most key frames' alignments were not taken; wall_distance then says the method
+  // did not measure it.
+  std::string cross_section_warning;
 };
 
 // Runs dense VO over the dataset's frames. The reference scale (reference_scale_px_per_m) is

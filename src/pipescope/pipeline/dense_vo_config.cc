@@ -91,6 +91,27 @@ const OptionTable<DenseOdometerOptions>& DenseVoOptionTable() {
             return nlohmann::json(o.unrolled_registration == DenseMethod::kPhase ? "phase"
                                                                                  : "hybrid");
           }),
+      Choice<O>(
+          "measure_cross_section", [](O& o) -> std::string& { return o.measure_cross_section; },
+          {"auto", "on", "off"},
+          "dense-unrolled: measure the crawler's place across the pipe at each key frame "
+          "(auto: where the view sees the wall's curvature)"),
+      Number<O>(
+          "cross_section_stride_px", [](O& o) -> int& { return o.cross_section.stride_px; }, 1,
+          64, "px", "measure_cross_section: every n-th prepared pixel of the key frame aligned"),
+      ScaledNumber<O>(
+          "cross_section_step_sigma_mm",
+          [](O& o) -> double& { return o.cross_section.offset_step_sigma_m; }, 0.0, 100.0, "mm",
+          "measure_cross_section: how far the crawler's place may move per key frame (1 sigma; 0: "
+          "no prior)",
+          0.001),
+      Number<O>(
+          "cross_section_baseline_fraction",
+          [](O& o) -> double& { return o.cross_section_baseline_fraction; }, 0.0, 0.9, "",
+          "measure_cross_section: a key frame is aligned with one this share of the grid behind"),
+      Number<O>(
+          "cross_section_huber_sigmas", [](O& o) -> double& { return o.cross_section.huber_sigmas; },
+          0.1, 100.0, "", "measure_cross_section: Huber's loss beyond this many residual sigmas"),
       Flag<O>(
           "mosaic", [](O& o) -> bool& { return o.build_mosaic; }, "write mosaic.png"),
       Number<O>(

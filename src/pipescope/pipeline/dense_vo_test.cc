@@ -491,5 +491,63 @@ TEST(DenseVo, MissingReferenceScaleIsAnInputError) {
   EXPECT_NE(message.find("reference_scale_px_per_m"), std::string::npos);
 }
 
+// The 6-inch wall camera (000's pipe 1, 70 degrees) at half resolution, one way over 0.4 m,
+// the crawler wandering 3.8 mm (5 % of the radius) across the pipe over a 1.2 m wavelength:
+// dense-unrolled measures its place at each key frame where the view sees the wall's curvature
+// (measure_cross_section), and with it held it reads each stretch long or short by the change
+// of wall distance.
+std::filesystem::path WanderingSteel6In(const std::string& name, double contrast,
+                                        double noise_sigma, int frames) {
+  const auto dir = MakeTestDirectory("dense_vo_wander") / name;
+  SimulationConfig config = PresetConfig("steel-6in");
+  config.width = 512;
+  config.height = 384;
+  config.frames = frames;
+  config.out_and_back = false;
+  config.white_card_count = 4;
+  config.lateral_offset_m = 0.0038;
+  config.wander_wavelength_m = 1.2;
+  config.texture_contrast = contrast;
+  config.noise_sigma = noise_sigma;
+  if (contrast < 1.0) config.specular_strength = 0.6;
+  SimulateDataset(config, dir);
+  return dir;
+}
+
+TEST(DenseVo, UnrolledMeasuresTheCrawlersPlaceWhereTheViewSeesIt) {
+  const std::filesystem::path dataset = WanderingSteel6In("preset", 1.0, 1.0, 300);
+  DenseOdometerOptions options = HalfResolutionOptions(DenseMethod::kUnrolled);
+  DenseVoResult measured;
+  const Metrics with = RunAndEvaluate(dataset, options, &measured);
+  options.measure_cross_section = "off";
+  DenseVoResult held;
+  const Metrics without = RunAndEvaluate(dataset, options, &held);
+  ASSERT_TRUE(with.distance_error_pct && without.distance_error_pct);
+  std::printf("cross-section measured: %.3f %%, held: %.3f %%\n", *with.distance_error_pct,
+              *without.distance_error_pct);
+  EXPECT_TRUE(WallDistanceMeasured(measured.wall_distance));
+  EXPECT_FALSE(WallDistanceMeasured(held.wall_distance));
+  EXPECT_GT(measured.cross_section_alignments, 20);
+  EXPECT_EQ(measured.cross_section_faint, 0);
+  EXPECT_LE(measured.cross_section_rejections, 7);  // the first seven: no median of eight yet
+  EXPECT_TRUE(measured.cross_section_warning.empty());
+  EXPECT_EQ(held.cross_section_alignments, 0);
+  // The held run carries the wander (about 1.3 % per mm of wall distance); the measured one
+  // follows it.
+  EXPECT_GT(std::abs(*without.distance_error_pct), 0.5);
+  EXPECT_LT(std::abs(*with.distance_error_pct), 0.4 * std::abs(*without.distance_error_pct));
+}
+
+TEST(DenseVo, UnrolledSaysWhenTheWallIsTooFaintToMeasureItsPlace) {
+  // Texture contrast 0.3 with noise 4 and highlights: the frames are mostly noise, the
+  // alignments are not taken, and the run says its scale rests on the start's wall distance.
+  const std::filesystem::path dataset = WanderingSteel6In("faint", 0.3, 4.0, 120);
+  DenseVoResult result;
+  RunAndEvaluate(dataset, HalfResolutionOptions(DenseMethod::kUnrolled), &result);
+  EXPECT_GT(result.cross_section_faint, 0);
+  EXPECT_FALSE(result.cross_section_warning.empty());
+  EXPECT_FALSE(WallDistanceMeasured(result.wall_distance));
+}
+
 }  // namespace
 }  // namespace pipescope
