@@ -10,7 +10,7 @@ namespace pipescope {
 struct CrossSectionAlignmentOptions {
   // Key-frame pixels sampled: every `stride_px`-th of the prepared (downsampled) frame in both
   // directions, inside `border_px` of its edges.
-  int stride_px = 2;
+  int stride_px = 3;
   int border_px = 8;
   // Huber's loss beyond this many standard deviations of the residuals (their spread at the
   // start, 1.4826 MAD): highlights and the lights' changing sheen move with the camera, not

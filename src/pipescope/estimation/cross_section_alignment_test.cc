@@ -73,7 +73,7 @@ TEST_F(AlignSimulatedFrames, FromTheTruePoseItStaysThere) {
   const CrossSectionAlignment result =
       AlignWithKeyOff(0, 7, Eigen::Vector2d::Zero(), 0.9 * travel);
   ASSERT_TRUE(result.converged);
-  EXPECT_GT(result.samples, 5000);
+  EXPECT_GT(result.samples, 3000);  // every 3rd pixel of the 256 x 192 prepared frame that overlaps
   EXPECT_NEAR(result.travel_m, travel, 0.002 * travel);
   EXPECT_LT(result.offset_m.norm(), 0.0002);
 }
