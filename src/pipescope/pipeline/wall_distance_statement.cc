@@ -108,8 +108,9 @@ std::string WallDistanceWarning(const WallDistanceStatement& statement, const st
   if (o) {
     view = o->observable
                ? fmt::format(
-                     "this view sees the wall's curvature well enough for --method sparse "
-                     "to measure it ({:.2f} % of scale per pair of views)",
+                     "this view sees the wall's curvature well enough to measure it ({:.2f} % "
+                     "of scale per pair of views: --method ekf, sparse, or dense-unrolled "
+                     "where the texture allows)",
                      o->scale_sigma_pct)
                : fmt::format(
                      "this view could not measure it either ({:.2f} % of scale per pair "
