@@ -34,11 +34,13 @@ TEST(WallDistanceStatement, SparseOnANarrowViewSaysTheScaleHoldsTheStart) {
   EXPECT_NE(warning.find("0.52 % long"), std::string::npos) << warning;
 }
 
-TEST(WallDistanceStatement, DenseMethodsAlwaysSayTheyAssumeIt) {
+TEST(WallDistanceStatement, DenseMethodsSayTheyAssumeItAndWhatWouldMeasureIt) {
   const WallDistanceStatement wide = MakeWallDistanceStatement(
       Pinhole(1024, 768, 70), CameraMount{}, 0.07666, 0.07666, "reference_scale_px_per_m", false);
   EXPECT_FALSE(WallDistanceMeasured(wide));
-  EXPECT_NE(WallDistanceWarning(wide, "dense-lk").find("--method sparse"), std::string::npos);
+  const std::string warning = WallDistanceWarning(wide, "dense-lk");
+  EXPECT_NE(warning.find("well enough to measure it"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("dense-unrolled where the texture allows"), std::string::npos) << warning;
   const WallDistanceStatement no_radius = MakeWallDistanceStatement(
       Pinhole(1024, 768, 70), CameraMount{}, 0.0, 0.07666, "reference_scale_px_per_m", false);
   EXPECT_FALSE(no_radius.observability.has_value());
