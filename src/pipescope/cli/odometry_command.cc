@@ -533,6 +533,16 @@ int RunOdometry(const OdometryFlags& flags) {
     report.SetCount("key_frames_cross_section_measured", result.cross_section_alignments);
     report.SetCount("key_frames_cross_section_rejected", result.cross_section_rejections);
     report.SetCount("key_frames_cross_section_faint", result.cross_section_faint);
+    report.Extra("cross_section_blurred_from_key_frame") =
+        result.cross_section_blurred_from >= 0 ? nlohmann::json(result.cross_section_blurred_from)
+                                               : nlohmann::json(nullptr);
+    if (result.cross_section_blurred_from >= 0 && result.cross_section_warning.empty()) {
+      report.Warn(fmt::format(
+          "dense-unrolled: the wall was too faint to align at full detail; from key frame {} the "
+          "camera's place was measured on frames blurred by {:g} px, less surely "
+          "(cross_section_sigma_mm in run.json)",
+          result.cross_section_blurred_from, options.cross_section_faint_smooth_px));
+    }
     std::vector<double> sigmas = result.cross_section_sigmas_m;
     if (!sigmas.empty()) {
       std::sort(sigmas.begin(), sigmas.end());

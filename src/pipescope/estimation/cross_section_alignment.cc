@@ -3,6 +3,8 @@
 #include <ceres/ceres.h>
 #include <ceres/cubic_interpolation.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -142,8 +144,13 @@ CrossSectionAligner::CrossSectionAligner(const Camera& camera, double radius_m, 
   }
 }
 
-cv::Mat CrossSectionAligner::Normalised(const cv::Mat& downsampled) const {
-  return NormaliseLocalContrast(downsampled, options_.contrast_normalisation_px);
+cv::Mat CrossSectionAligner::Normalised(const cv::Mat& downsampled, double smooth_px) const {
+  if (!(smooth_px > 0.0)) {
+    return NormaliseLocalContrast(downsampled, options_.contrast_normalisation_px);
+  }
+  cv::Mat smoothed;
+  cv::GaussianBlur(downsampled, smoothed, cv::Size(), smooth_px);
+  return NormaliseLocalContrast(smoothed, options_.contrast_normalisation_px);
 }
 
 CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::Mat& current,

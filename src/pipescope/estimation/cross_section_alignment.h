@@ -67,8 +67,9 @@ class CrossSectionAligner {
   CrossSectionAligner(const Camera& camera, double radius_m, int downsample,
                       const CrossSectionAlignmentOptions& options = {});
 
-  // A prepared frame (DenseFramePreparation::CorrectAndDownsample) as Align() takes it.
-  cv::Mat Normalised(const cv::Mat& downsampled) const;
+  // A prepared frame (DenseFramePreparation::CorrectAndDownsample) as Align() takes it, blurred
+  // first by a Gaussian of `smooth_px` (0: not).
+  cv::Mat Normalised(const cv::Mat& downsampled, double smooth_px = 0.0) const;
 
   // Starts from `travel_m`, `roll_rad` and `expected_offset_m`, where the prior holds the
   // offset (CrossSectionAlignmentOptions::offset_step_sigma_m). `key_world_from_cam`: the key

@@ -282,12 +282,11 @@ DenseOdometerStep DenseOdometer::Step(const Frame& frame) {
     // A key frame after failed pairs keeps the pose it has and is no reference.
     if (aligner_ && record.failure.empty()) {
       const StageClock<> measuring;
-      cv::Mat aligned = aligner_->Normalised(downsampled);
-      if (!aligned_keys_.empty() && MeasureCrossSection(aligned, travel, roll)) {
+      if (!aligned_keys_.empty() && MeasureCrossSection(downsampled, travel, roll)) {
         pose = PipeAxisMotion(start_, travel, roll);
         current = Filtered(unrolled_->Unroll(downsampled));  // on the new grid
       }
-      aligned_keys_.push_back({aligned, pose, travel, roll});
+      aligned_keys_.push_back({downsampled, pose, travel, roll});
       if (aligned_keys_.size() > 8) aligned_keys_.pop_front();
       measuring.AddTo(&stage_times_, "cross-section");
     }
@@ -304,7 +303,7 @@ DenseOdometerStep DenseOdometer::Step(const Frame& frame) {
   return step;
 }
 
-bool DenseOdometer::MeasureCrossSection(const cv::Mat& aligned, double travel, double roll) {
+bool DenseOdometer::MeasureCrossSection(const cv::Mat& downsampled, double travel, double roll) {
   const UnrolledGrid& grid = unrolled_->grid();
   const double baseline =
       options_.cross_section_baseline_fraction * grid.size.width * grid.pixel_m;
@@ -320,9 +319,10 @@ bool DenseOdometer::MeasureCrossSection(const cv::Mat& aligned, double travel, d
   const Eigen::Vector2d reference_place = reference->pose.translation().head<2>();
   const Eigen::Vector2d expected =
       (to_reference * start_.translation()).head<2>() - reference_place;
-  const CrossSectionAlignment alignment =
-      aligner_->Align(reference->image, aligned, reference->pose, travel - reference->travel,
-                      roll - reference->roll, expected);
+  const double smooth = aligning_blurred_ ? options_.cross_section_faint_smooth_px : 0.0;
+  const CrossSectionAlignment alignment = aligner_->Align(
+      aligner_->Normalised(reference->downsampled, smooth), aligner_->Normalised(downsampled, smooth),
+      reference->pose, travel - reference->travel, roll - reference->roll, expected);
   cross_section_sigmas_.push_back(alignment.offset_sigma_m);
   // Faint by the median of the last eight alignments' residual spreads, not this one's alone,
   // and until there are eight: on a wall too faint to measure, the odd alignment that passes is
@@ -340,6 +340,12 @@ bool DenseOdometer::MeasureCrossSection(const cv::Mat& aligned, double travel, d
   if (recent[recent.size() / 2] > options_.cross_section.max_residual_sigma) {
     ++cross_section_faint_;
     ++cross_section_rejections_;
+    if (!aligning_blurred_ && options_.cross_section_faint_smooth_px > 0.0) {
+      // Try the coarse texture; eight blurred alignments must pass before one is taken.
+      aligning_blurred_ = true;
+      blurred_from_key_frame_ = key_frames_chosen_;
+      recent_residual_sigmas_.clear();
+    }
     return false;
   }
   if (!alignment.converged ||

@@ -116,6 +116,7 @@ DenseVoResult RunDenseVo(const DatasetManifest& manifest, const Camera& camera,
   result.cross_section_rejections = odometer.cross_section_rejections();
   result.cross_section_sigmas_m = odometer.cross_section_sigmas();
   result.cross_section_faint = odometer.cross_section_faint();
+  result.cross_section_blurred_from = odometer.cross_section_blurred_from();
   const int aligned = result.cross_section_alignments + result.cross_section_rejections;
   if (odometer.measures_cross_section() && aligned > 0 &&
       2 * result.cross_section_alignments < aligned) {

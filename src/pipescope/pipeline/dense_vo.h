@@ -40,6 +40,9 @@ struct DenseVoResult {
   int cross_section_rejections = 0;
   std::vector<double> cross_section_sigmas_m;  // DenseOdometer::cross_section_sigmas()
   int cross_section_faint = 0;                  // rejections: frames mostly noise
+  // The key frame from which the frames were aligned blurred (too faint at full detail;
+  // DenseOdometerOptions::cross_section_faint_smooth_px), -1: never.
+  int cross_section_blurred_from = -1;
   // Set when most key frames' alignments were not taken; wall_distance then says the method
   // did not measure it.
   std::string cross_section_warning;

@@ -110,6 +110,11 @@ const OptionTable<DenseOdometerOptions>& DenseVoOptionTable() {
           [](O& o) -> double& { return o.cross_section_baseline_fraction; }, 0.0, 0.9, "",
           "measure_cross_section: a key frame is aligned with one this share of the grid behind"),
       Number<O>(
+          "cross_section_faint_smooth_px",
+          [](O& o) -> double& { return o.cross_section_faint_smooth_px; }, 0.0, 10.0, "px",
+          "measure_cross_section: on a wall too faint to align, align frames blurred by this "
+          "(0: hold the place instead)"),
+      Number<O>(
           "cross_section_huber_sigmas", [](O& o) -> double& { return o.cross_section.huber_sigmas; },
           0.1, 100.0, "", "measure_cross_section: Huber's loss beyond this many residual sigmas"),
       Flag<O>(
