@@ -168,6 +168,11 @@ CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::M
   std::copy(camera_.Params().begin(), camera_.Params().end(), camera_params.begin());
   double p[kParameters] = {travel_m, roll_rad, expected_offset_m.x(), expected_offset_m.y()};
   const double margin = options_.border_px;
+  // Where the samples land at the start: the current camera at the expected place.
+  Eigen::Isometry3d expected_key = key_world_from_cam;
+  expected_key.translation().head<2>() += expected_offset_m;
+  const Eigen::Isometry3d current_from_world =
+      PipeAxisMotion(expected_key, travel_m, roll_rad).inverse();
 
   // The samples, and their residuals at the start.
   std::vector<PhotometricResidual> samples;
@@ -196,10 +201,8 @@ CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::M
       Eigen::Vector2d pixel;
       const Eigen::Vector3d wall_point =
           key_world_from_cam.translation() + *depth * sample.direction;
-      Eigen::Isometry3d moved = key_world_from_cam;
-      moved.translation().head<2>() += expected_offset_m;
-      if (camera_.Project(PipeAxisMotion(moved, travel_m, roll_rad).inverse() * wall_point,
-                          &pixel) == ProjectionStatus::kBehindCamera) {
+      if (camera_.Project(current_from_world * wall_point, &pixel) ==
+          ProjectionStatus::kBehindCamera) {
         continue;
       }
       const Eigen::Vector2d start = (pixel.array() + 0.5) / downsample_ - 0.5;
@@ -240,16 +243,13 @@ CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::M
   }
   const LeastSquaresOutcome outcome = SolveLeastSquares(
       &problem, ceres::DENSE_NORMAL_CHOLESKY, options_.max_iterations, /*observations=*/0);
-  double rms_sum = 0.0;
   std::vector<double> final_residuals;
   for (PhotometricResidual each : samples) {
     each.inverse_sigma = 1.0;
     double residual = 0.0;
     each(p, &residual);
-    rms_sum += residual * residual;
     final_residuals.push_back(std::abs(residual));
   }
-  result.rms = std::sqrt(rms_sum / result.samples);
   std::nth_element(final_residuals.begin(), final_residuals.begin() + final_residuals.size() / 2,
                    final_residuals.end());
   result.residual_sigma = 1.4826 * final_residuals[final_residuals.size() / 2];

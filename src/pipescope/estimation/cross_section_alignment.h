@@ -22,9 +22,10 @@ struct CrossSectionAlignmentOptions {
   double offset_step_sigma_m = 0.0005;
   int max_iterations = 25;
   // Frames that are mostly noise are not to be trusted: the residuals' spread at the solution,
-  // in units of the frames' local contrast, above this (steel-6in seed 1: 0.39 with the preset's
-  // texture, 0.48 under a broad sheen, 0.98 at texture contrast 0.3 with noise 4, where the
-  // offsets found were off by up to 2.7 mm; docs/conditions.md).
+  // in units of the frames' local contrast, above this (steel-6in seed 1, medians over a run,
+  // measured with every 2nd pixel: 0.39 with the preset's texture, 0.48 under a broad sheen, 0.98
+  // at texture contrast 0.3 with noise 4, where the offsets found were off by up to 2.7 mm;
+  // docs/conditions.md).
   double max_residual_sigma = 0.75;
   // The frames' local contrast normalisation (dense/local_contrast.h), prepared pixels.
   double contrast_normalisation_px = 8.0;
@@ -40,8 +41,8 @@ struct CrossSectionAlignment {
   // held pose did not know.
   Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();
   int samples = 0;
-  double rms = 0.0;  // of the residuals at the solution, normalised grey levels
-  double residual_sigma = 0.0;  // their spread at the solution (1.4826 MAD)
+  // The residuals' spread at the solution (1.4826 MAD), normalised grey levels.
+  double residual_sigma = 0.0;
   // What the two frames alone fix of the offset (1 sigma of its less certain direction, from
   // the residuals' information with the prior left out; they are taken as independent, which
   // neighbouring samples are not quite).

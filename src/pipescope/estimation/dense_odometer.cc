@@ -130,16 +130,17 @@ DenseOdometer::DenseOdometer(const Camera& camera, const cv::Mat& gain_mask, dou
         camera, start_, radius, options_.frames.downsample / zeta, options_.frames.downsample,
         options_.unrolled_margin_cells);
   }
-  const bool measure =
-      options_.measure_cross_section == "on" ||
-      (options_.measure_cross_section == "auto" && on_unrolled_wall_ &&
-       AssessWallDistanceObservability(camera, start_, radius).observable);
   if (options_.measure_cross_section != "auto" && options_.measure_cross_section != "on" &&
       options_.measure_cross_section != "off") {
     throw InputError("measure_cross_section: must be auto, on or off, got '" +
                      options_.measure_cross_section + "'");
   }
-  if (on_unrolled_wall_ && measure) {
+  // Only dense-unrolled measures the place; the planar methods ignore the option.
+  const bool measure = on_unrolled_wall_ &&
+                       (options_.measure_cross_section == "on" ||
+                        (options_.measure_cross_section == "auto" &&
+                         AssessWallDistanceObservability(camera, start_, radius).observable));
+  if (measure) {
     aligner_ = std::make_unique<CrossSectionAligner>(camera, radius, options_.frames.downsample,
                                                      options_.cross_section);
   }
