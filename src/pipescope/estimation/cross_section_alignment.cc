@@ -109,15 +109,32 @@ struct OffsetPrior {
   }
 };
 
-// What the frames alone fix of the offset: the larger standard deviation of its two components
-// from the photometric residuals' Gauss-Newton information at the solution (robustly weighted,
-// the prior left out), the travel and roll marginalised. Infinite when it is not fixed at all.
-double FramesOffsetSigma(ceres::Problem* problem,
-                         const std::vector<ceres::ResidualBlockId>& photometric) {
+struct SolutionSpread {
+  double residual_sigma = 0.0;  // 1.4826 MAD of the residuals, in their units before scaling
+  double offset_sigma_m = 0.0;
+};
+
+// At the solution, from one evaluation of the photometric residuals (the prior left out):
+// - their spread. Ceres returns them robustified; Huber's correction (Triggs et al., as Ceres'
+//   Corrector applies it where rho'' <= 0) maps |r| > k to sqrt(k |r|), so |r| = r'^2 / k there.
+// - what the frames alone fix of the offset: the larger standard deviation of its two
+//   components from the residuals' Gauss-Newton information (robustly weighted), the travel and
+//   roll marginalised. Infinite when it is not fixed at all.
+SolutionSpread SpreadAtSolution(ceres::Problem* problem,
+                                const std::vector<ceres::ResidualBlockId>& photometric,
+                                double huber_k, double residual_scale) {
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.residual_blocks = photometric;
+  std::vector<double> residuals;
   ceres::CRSMatrix jacobian;
-  problem->Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian);
+  problem->Evaluate(evaluate, nullptr, &residuals, nullptr, &jacobian);
+  SolutionSpread spread;
+  for (double& each : residuals) {
+    each = std::abs(each);
+    if (each > huber_k) each = each * each / huber_k;
+  }
+  std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+  spread.residual_sigma = 1.4826 * residuals[residuals.size() / 2] * residual_scale;
   Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
   for (int row = 0; row < jacobian.num_rows; ++row) {
     Eigen::Vector4d gradient = Eigen::Vector4d::Zero();
@@ -127,10 +144,14 @@ double FramesOffsetSigma(ceres::Problem* problem,
     information += gradient * gradient.transpose();
   }
   const Eigen::FullPivLU<Eigen::Matrix4d> lu(information);
-  if (!lu.isInvertible()) return std::numeric_limits<double>::infinity();
+  if (!lu.isInvertible()) {
+    spread.offset_sigma_m = std::numeric_limits<double>::infinity();
+    return spread;
+  }
   const Eigen::Matrix2d covariance = lu.inverse().bottomRightCorner<2, 2>();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
-  return std::sqrt(std::max(eigen.eigenvalues().maxCoeff(), 0.0));
+  spread.offset_sigma_m = std::sqrt(std::max(eigen.eigenvalues().maxCoeff(), 0.0));
+  return spread;
 }
 
 }  // namespace
@@ -151,6 +172,21 @@ cv::Mat CrossSectionAligner::Normalised(const cv::Mat& downsampled, double smoot
   cv::Mat smoothed;
   cv::GaussianBlur(downsampled, smoothed, cv::Size(), smooth_px);
   return NormaliseLocalContrast(smoothed, options_.contrast_normalisation_px);
+}
+
+const std::vector<CrossSectionAligner::SamplePixel>& CrossSectionAligner::SamplePixels(
+    const cv::Size& size) const {
+  if (size == sample_size_) return sample_pixels_;
+  sample_pixels_.clear();
+  for (int y = options_.border_px; y < size.height - options_.border_px; y += options_.stride_px) {
+    for (int x = options_.border_px; x < size.width - options_.border_px; x += options_.stride_px) {
+      const Eigen::Vector2d full((x + 0.5) * downsample_ - 0.5, (y + 0.5) * downsample_ - 0.5);
+      SamplePixel sample{x, y, Eigen::Vector3d::Zero()};
+      if (camera_.Unproject(full, &sample.bearing)) sample_pixels_.push_back(sample);
+    }
+  }
+  sample_size_ = size;
+  return sample_pixels_;
 }
 
 CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::Mat& current,
@@ -188,33 +224,27 @@ CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::M
                              1.0,
                              downsample_,
                              key.size()};
-  for (int y = options_.border_px; y < key.rows - options_.border_px; y += options_.stride_px) {
-    for (int x = options_.border_px; x < key.cols - options_.border_px; x += options_.stride_px) {
-      const Eigen::Vector2d full((x + 0.5) * downsample_ - 0.5, (y + 0.5) * downsample_ - 0.5);
-      Eigen::Vector3d bearing;
-      if (!camera_.Unproject(full, &bearing)) continue;
-      sample.direction = key_world_from_cam.linear() * bearing;
-      sample.grey = key.at<float>(y, x);
-      const std::optional<double> depth =
-          RayToWall(key_world_from_cam.translation(), sample.direction, radius_m_);
-      if (!depth) continue;
-      Eigen::Vector2d pixel;
-      const Eigen::Vector3d wall_point =
-          key_world_from_cam.translation() + *depth * sample.direction;
-      if (camera_.Project(current_from_world * wall_point, &pixel) ==
-          ProjectionStatus::kBehindCamera) {
-        continue;
-      }
-      const Eigen::Vector2d start = (pixel.array() + 0.5) / downsample_ - 0.5;
-      if (start.x() < margin || start.y() < margin || start.x() > key.cols - 1 - margin ||
-          start.y() > key.rows - 1 - margin) {
-        continue;
-      }
-      double residual = 0.0;
-      sample(p, &residual);
-      samples.push_back(sample);
-      start_residuals.push_back(std::abs(residual));
+  for (const SamplePixel& pixel_ray : SamplePixels(key.size())) {
+    sample.direction = key_world_from_cam.linear() * pixel_ray.bearing;
+    sample.grey = key.at<float>(pixel_ray.y, pixel_ray.x);
+    const std::optional<double> depth =
+        RayToWall(key_world_from_cam.translation(), sample.direction, radius_m_);
+    if (!depth) continue;
+    Eigen::Vector2d pixel;
+    const Eigen::Vector3d wall_point = key_world_from_cam.translation() + *depth * sample.direction;
+    if (camera_.Project(current_from_world * wall_point, &pixel) ==
+        ProjectionStatus::kBehindCamera) {
+      continue;
     }
+    const Eigen::Vector2d start = (pixel.array() + 0.5) / downsample_ - 0.5;
+    if (start.x() < margin || start.y() < margin || start.x() > key.cols - 1 - margin ||
+        start.y() > key.rows - 1 - margin) {
+      continue;
+    }
+    double residual = 0.0;
+    sample(p, &residual);
+    samples.push_back(sample);
+    start_residuals.push_back(std::abs(residual));
   }
   CrossSectionAlignment result;
   result.samples = static_cast<int>(samples.size());
@@ -226,14 +256,18 @@ CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::M
                    start_residuals.end());
   const double sigma = std::max(1.4826 * start_residuals[start_residuals.size() / 2], 1e-6);
 
-  ceres::Problem problem;
+  // One loss for every sample: the problem does not own it, so it must outlive the problem.
+  ceres::HuberLoss huber(options_.huber_sigmas);
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
   std::vector<ceres::ResidualBlockId> photometric;
   for (PhotometricResidual& each : samples) {
     each.inverse_sigma = 1.0 / sigma;
     photometric.push_back(problem.AddResidualBlock(
         new ceres::AutoDiffCostFunction<PhotometricResidual, 1, kParameters>(
             new PhotometricResidual(each)),
-        new ceres::HuberLoss(options_.huber_sigmas), p));
+        &huber, p));
   }
   if (options_.offset_step_sigma_m > 0.0) {
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OffsetPrior, 2, kParameters>(
@@ -243,18 +277,11 @@ CrossSectionAlignment CrossSectionAligner::Align(const cv::Mat& key, const cv::M
   }
   const LeastSquaresOutcome outcome = SolveLeastSquares(
       &problem, ceres::DENSE_NORMAL_CHOLESKY, options_.max_iterations, /*observations=*/0);
-  std::vector<double> final_residuals;
-  for (PhotometricResidual each : samples) {
-    each.inverse_sigma = 1.0;
-    double residual = 0.0;
-    each(p, &residual);
-    final_residuals.push_back(std::abs(residual));
-  }
-  std::nth_element(final_residuals.begin(), final_residuals.begin() + final_residuals.size() / 2,
-                   final_residuals.end());
-  result.residual_sigma = 1.4826 * final_residuals[final_residuals.size() / 2];
+  const SolutionSpread spread =
+      SpreadAtSolution(&problem, photometric, options_.huber_sigmas, sigma);
+  result.residual_sigma = spread.residual_sigma;
   result.too_faint = result.residual_sigma > options_.max_residual_sigma;
-  result.offset_sigma_m = FramesOffsetSigma(&problem, photometric);
+  result.offset_sigma_m = spread.offset_sigma_m;
   result.converged = outcome.usable;
   result.travel_m = p[0];
   result.roll_rad = p[1];

@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include <vector>
+
 #include "pipescope/camera/camera.h"
 
 namespace pipescope {
@@ -81,10 +83,21 @@ class CrossSectionAligner {
                               const Eigen::Vector2d& expected_offset_m = Eigen::Vector2d::Zero()) const;
 
  private:
+  // A sampled pixel of the prepared frame and its ray in the camera frame.
+  struct SamplePixel {
+    int x = 0, y = 0;
+    Eigen::Vector3d bearing;
+  };
+  // The sampled pixels of a frame of `size` that the camera can unproject; the same for every
+  // key frame, so made once (the unprojection is iterative for distorted models).
+  const std::vector<SamplePixel>& SamplePixels(const cv::Size& size) const;
+
   const Camera& camera_;
   double radius_m_;
   int downsample_;
   CrossSectionAlignmentOptions options_;
+  mutable cv::Size sample_size_;
+  mutable std::vector<SamplePixel> sample_pixels_;
 };
 
 }  // namespace pipescope

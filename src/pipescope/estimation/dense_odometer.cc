@@ -283,11 +283,13 @@ DenseOdometerStep DenseOdometer::Step(const Frame& frame) {
     // A key frame after failed pairs keeps the pose it has and is no reference.
     if (aligner_ && record.failure.empty()) {
       const StageClock<> measuring;
-      if (!aligned_keys_.empty() && MeasureCrossSection(downsampled, travel, roll)) {
+      AlignedKey aligned{downsampled, pose, travel, roll, cv::Mat(), -1.0};
+      if (!aligned_keys_.empty() && MeasureCrossSection(&aligned)) {
         pose = PipeAxisMotion(start_, travel, roll);
         current = Filtered(unrolled_->Unroll(downsampled));  // on the new grid
+        aligned.pose = pose;
       }
-      aligned_keys_.push_back({downsampled, pose, travel, roll});
+      aligned_keys_.push_back(std::move(aligned));
       if (aligned_keys_.size() > 8) aligned_keys_.pop_front();
       measuring.AddTo(&stage_times_, "cross-section");
     }
@@ -304,11 +306,21 @@ DenseOdometerStep DenseOdometer::Step(const Frame& frame) {
   return step;
 }
 
-bool DenseOdometer::MeasureCrossSection(const cv::Mat& downsampled, double travel, double roll) {
+const cv::Mat& DenseOdometer::AlignerFrame(AlignedKey* key) const {
+  const double smooth = aligning_blurred_ ? options_.cross_section_faint_smooth_px : 0.0;
+  if (key->normalised.empty() || key->normalised_smooth_px != smooth) {
+    key->normalised = aligner_->Normalised(key->downsampled, smooth);
+    key->normalised_smooth_px = smooth;
+  }
+  return key->normalised;
+}
+
+bool DenseOdometer::MeasureCrossSection(AlignedKey* key) {
+  const double travel = key->travel, roll = key->roll;
   const UnrolledGrid& grid = unrolled_->grid();
   const double baseline =
       options_.cross_section_baseline_fraction * grid.size.width * grid.pixel_m;
-  const AlignedKey* reference = &aligned_keys_.front();
+  AlignedKey* reference = &aligned_keys_.front();
   for (auto it = aligned_keys_.rbegin(); it != aligned_keys_.rend(); ++it) {
     if (std::abs(travel - it->travel) >= baseline) {
       reference = &*it;
@@ -320,10 +332,8 @@ bool DenseOdometer::MeasureCrossSection(const cv::Mat& downsampled, double trave
   const Eigen::Vector2d reference_place = reference->pose.translation().head<2>();
   const Eigen::Vector2d expected =
       (to_reference * start_.translation()).head<2>() - reference_place;
-  const double smooth = aligning_blurred_ ? options_.cross_section_faint_smooth_px : 0.0;
   const CrossSectionAlignment alignment = aligner_->Align(
-      aligner_->Normalised(reference->downsampled, smooth), aligner_->Normalised(downsampled, smooth),
-      reference->pose, travel - reference->travel, roll - reference->roll, expected);
+      AlignerFrame(reference), AlignerFrame(key), reference->pose, travel - reference->travel, roll - reference->roll, expected);
   cross_section_sigmas_.push_back(alignment.offset_sigma_m);
   // Faint by the median of the last eight alignments' residual spreads, not this one's alone,
   // and until there are eight: on a wall too faint to measure, the odd alignment that passes is

@@ -257,6 +257,16 @@ class DenseOdometer {
   // The registered image of a frame: prepared (or unrolled), filtered, cut to the band.
   // dense-unrolled's `downsampled` frame (the gain-corrected block means) is kept.
   cv::Mat Registered(const cv::Mat& grey, cv::Mat* mosaic_frame, cv::Mat* downsampled) const;
+  // measure_cross_section: one of the last key frames registered without failure, with its
+  // pose.
+  struct AlignedKey {
+    cv::Mat downsampled;  // the prepared frame, before the aligner's filters
+    Eigen::Isometry3d pose;
+    double travel = 0.0, roll = 0.0;
+    // CrossSectionAligner::Normalised(downsampled, normalised_smooth_px); empty until needed.
+    cv::Mat normalised;
+    double normalised_smooth_px = -1.0;
+  };
   // The registered image of dense-unrolled's downsampled frame, or of the planar methods'
   // prepared frame.
   cv::Mat Filtered(cv::Mat current) const;
@@ -266,7 +276,10 @@ class DenseOdometer {
   // registration's (phase correlation on the unrolled wall measures them better than the
   // alignment, whose travel came out 0.15 % short from the true poses in its test; an offset
   // changes little over one key-frame step).
-  bool MeasureCrossSection(const cv::Mat& downsampled, double travel, double roll);
+  // `key` is the new key frame (its pose is set by the caller afterwards).
+  bool MeasureCrossSection(AlignedKey* key);
+  // The key's frame as the aligner takes it now (blurred or not), normalised once and kept.
+  const cv::Mat& AlignerFrame(AlignedKey* key) const;
   std::optional<double> FractionTarget() const;
 
   DenseOdometerOptions options_;
@@ -288,13 +301,7 @@ class DenseOdometer {
   double radius_ = 0.0;
   double zeta_ = 0.0;
   std::unique_ptr<CrossSectionAligner> aligner_;
-  // measure_cross_section: the last key frames registered without failure, as the aligner
-  // takes them, with their poses.
-  struct AlignedKey {
-    cv::Mat downsampled;  // the prepared frame, before the aligner's filters
-    Eigen::Isometry3d pose;
-    double travel = 0.0, roll = 0.0;
-  };
+  // measure_cross_section: the last key frames registered without failure.
   std::deque<AlignedKey> aligned_keys_;
   int cross_section_alignments_ = 0;
   int cross_section_rejections_ = 0;  // including the faint ones
