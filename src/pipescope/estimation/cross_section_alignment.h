@@ -89,7 +89,8 @@ class CrossSectionAligner {
     Eigen::Vector3d bearing;
   };
   // The sampled pixels of a frame of `size` that the camera can unproject; the same for every
-  // key frame, so made once (the unprojection is iterative for distorted models).
+  // key frame, so made once (the unprojection is iterative for distorted models). The cache
+  // makes Align() unsafe to call from two threads at once: one aligner per odometer.
   const std::vector<SamplePixel>& SamplePixels(const cv::Size& size) const;
 
   const Camera& camera_;

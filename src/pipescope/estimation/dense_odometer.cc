@@ -333,7 +333,8 @@ bool DenseOdometer::MeasureCrossSection(AlignedKey* key) {
   const Eigen::Vector2d expected =
       (to_reference * start_.translation()).head<2>() - reference_place;
   const CrossSectionAlignment alignment = aligner_->Align(
-      AlignerFrame(reference), AlignerFrame(key), reference->pose, travel - reference->travel, roll - reference->roll, expected);
+      AlignerFrame(reference), AlignerFrame(key), reference->pose, travel - reference->travel,
+      roll - reference->roll, expected);
   cross_section_sigmas_.push_back(alignment.offset_sigma_m);
   // Faint by the median of the last eight alignments' residual spreads, not this one's alone,
   // and until there are eight: on a wall too faint to measure, the odd alignment that passes is
