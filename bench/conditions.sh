@@ -12,7 +12,9 @@
 # (003's downward camera with its heading wander, 10 deg, and 30 mm sideways: its preset's own)
 # and fisheye (001's forward 190 deg lens in a straight 400 mm pipe, `pipescope map`, 1 cm a
 # frame, out and back) and fisheye1 (the same one way, 2.1 m, as the issue's fisheye target).
-# "phase-rotation" is phase with phase_rotation: true (003 eq. 7).
+# "phase-rotation" is phase with phase_rotation: true (003 eq. 7). "default" runs `odometry`
+# without --method: what a user gets, the method choice and its fallback included (run.json
+# `method_choice` says which ran).
 # Seed 1 is the tuning seed; seeds 41 and 43 are held out (never used while changing a method).
 # Datasets are kept in OUT_DIR/data and reused; runs go to OUT_DIR/runs; the table is printed by
 # bench/conditions_table.py, which also writes OUT_DIR/conditions.csv.
@@ -74,6 +76,7 @@ for seed in $SEEDS; do
         [ -n "${!config_var:-}" ] && config_args=(--config "${!config_var}")
         command=(odometry "$data" --method "$method")
         [ "$method" = map ] && command=(map "$data")
+        [ "$method" = default ] && command=(odometry "$data")
         if [ "$method" = phase-rotation ]; then
           [ -f "$OUT/phase-rotation.yaml" ] || echo "phase_rotation: true" >"$OUT/phase-rotation.yaml"
           command=(odometry "$data" --method phase)

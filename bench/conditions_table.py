@@ -4,7 +4,8 @@ worst leg error over the tuning seed and, apart, over the held-out seeds; and ho
 more than 2 % off without their run.json calling them unreliable (silent failures).
 Usage: conditions_table.py OUT_DIR [TAG] [--markdown]   (writes OUT_DIR/conditions-TAG.csv)
 --markdown prints, per set-up, every run's distance error and worst leg (%), "U" marking a run
-its run.json called unreliable: the tables of docs/conditions.md."""
+its run.json called unreliable, and for the "default" method (no --method) the method that ran:
+the tables of docs/conditions.md."""
 import csv
 import glob
 import json
@@ -40,6 +41,8 @@ def load_runs(out, tag):
             "predicted": m.get("frames_predicted", 0),
             "not_localised": m.get("frames_not_localised", 0),
             "fps": r["counts"]["frames"] / odometry_s if odometry_s else None,
+            # The method that ran when the run left the choice to `odometry` ("default").
+            "chosen": r.get("method_choice", {}).get("method", ""),
         })
     return rows
 
@@ -79,7 +82,8 @@ def markdown(rows):
                 text = f"{abs(r['distance_pct']):.3f}"
                 if leg == leg:  # not NaN
                     text += f" / {leg:.2f}"
-                cells.append(text + (" U" if r["verdict"] != "reliable" else ""))
+                text += " U" if r["verdict"] != "reliable" else ""
+                cells.append(text + (f" ({r['chosen']})" if method == "default" else ""))
             print(f"| {method} | " + " | ".join(cells) + " |")
 
 

@@ -1,20 +1,25 @@
 #!/usr/bin/env python3
 """How many of a wall camera's point correspondences are right, against the truth: descriptor
-matching (what `sparse` does) beside pyramidal Lucas-Kanade (what `ekf` does), by the frames
-between the two images (docs/conditions.md, "Why sparse cannot meet the target on weak texture").
+matching (what `sparse` did before 2026-12-04), the same matches refined by Lucas-Kanade (what
+it does since), and pyramidal Lucas-Kanade alone (what `ekf` does), by the frames between the
+two images (docs/conditions.md, "Not done, and why"; docs/sparse_vo.md, "Matches refined by
+Lucas-Kanade").
 
 A re-creation of the front ends with OpenCV (not the product's code): each frame divided by the
 gain mask (and blurred by `--blur` px), Harris corners by cv.goodFeaturesToTrack (600, 8 px
 apart, 5 px block), then either SIFT descriptors at the corners (keypoint size 4 px, as
 SiftDescriptionOptions) matched by Lowe's ratio 0.8 with a mutual check, or Lucas-Kanade from
 the first image into the second and back (`--window` px, 3 levels, round trip within 0.5 px).
+The refined matches: Lucas-Kanade from the first image's corner started at the matched one
+(21 px window, full resolution only), those whose way back misses by more than 0.5 px dropped.
 Both go through five-point RANSAC (cv.findEssentialMat, 1 px). Each corner is cast onto the
 scene's cylinder (along z through the origin) from the first image's true pose and projected
 into the second: where it should be. An inlier within 1 px of that is right. A wrong
 correspondence can pass RANSAC when it errs along its epipolar line, which is the direction of
 travel in a wall view: such errors are what bias the scale.
-Prints per gap the medians over the sampled pairs: the true median flow (px), inliers, right
-inliers and the inliers' median error (px).
+Prints per gap the medians over the sampled pairs: the true median flow (px), and per front
+end the inliers, right inliers, the inliers' median error (px) and their flow bias (the mean
+of the track's displacement along the true flow over the true flow, less 1).
 Needs a `pinhole-radtan` camera and a straight scene along z (the wall6 and wall16 set-ups of
 bench/conditions.sh), numpy, OpenCV and PyYAML (Debian: python3-numpy python3-opencv
 python3-yaml).
@@ -110,12 +115,19 @@ def sift_matches(sift, first_image, second_image, first, second):
             np.array([second_keys[b].pt for _, b in pairs]).reshape(-1, 2))
 
 
-def lucas_kanade(first_image, second_image, first, window):
+def lucas_kanade(first_image, second_image, first, window, levels=3, starts=None):
+    """Where Lucas-Kanade takes the first image's patches in the second (from `starts` when given,
+    else from the points themselves), kept if the way back returns within 0.5 px."""
+    if len(first) == 0:
+        return first, first
+    first = first.astype(np.float32)
     size = (window, window)
-    tracked, forward, _ = cv2.calcOpticalFlowPyrLK(first_image, second_image, first, None,
-                                                   winSize=size, maxLevel=3)
+    flags = 0 if starts is None else cv2.OPTFLOW_USE_INITIAL_FLOW
+    start = None if starts is None else starts.astype(np.float32).copy()
+    tracked, forward, _ = cv2.calcOpticalFlowPyrLK(first_image, second_image, first, start,
+                                                   winSize=size, maxLevel=levels, flags=flags)
     back, backward, _ = cv2.calcOpticalFlowPyrLK(second_image, first_image, tracked, first.copy(),
-                                                 winSize=size, maxLevel=3,
+                                                 winSize=size, maxLevel=levels,
                                                  flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
     kept = (forward.ravel() == 1) & (backward.ravel() == 1) & (
         np.linalg.norm(back - first, axis=1) < 0.5)
@@ -146,18 +158,27 @@ def main():
             first_image, second_image = data.image(i, args.blur), data.image(j, args.blur)
             first = corners(first_image)
             row = [np.median(np.linalg.norm(data.true_pixels(first, i, j) - first, axis=1))]
-            for a, b in (sift_matches(sift, first_image, second_image, first,
-                                      corners(second_image)),
+            matched = sift_matches(sift, first_image, second_image, first, corners(second_image))
+            # The refinement: from each matched corner, on the full-resolution level alone.
+            refined = lucas_kanade(first_image, second_image, matched[0], 21, 0, matched[1])
+            for a, b in (matched, refined,
                          lucas_kanade(first_image, second_image, first, args.window)):
                 inlier = data.ransac_inliers(a, b)
-                error = np.linalg.norm(b - data.true_pixels(a, i, j), axis=1)
+                truth = data.true_pixels(a, i, j)
+                error = np.linalg.norm(b - truth, axis=1)
+                flow = truth - a
+                # Along the true flow, over it: 1 is right, below 1 a track that fell short.
+                ratio = np.sum((b - a) * flow, 1) / np.maximum(np.sum(flow * flow, 1), 1e-9)
                 row += [inlier.sum(), (inlier & (error < 1.0)).sum(),
-                        np.median(error[inlier]) if inlier.any() else np.nan]
+                        np.median(error[inlier]) if inlier.any() else np.nan,
+                        np.mean(ratio[inlier]) - 1 if inlier.any() else np.nan]
             rows.append(row)
         m = np.nanmedian(np.array(rows, dtype=float), axis=0)
-        print(f"  gap {gap:2d} (flow {m[0]:5.1f} px): SIFT {m[1]:4.0f} inliers, {m[2]:4.0f} right, "
-              f"error {m[3]:5.2f} px | Lucas-Kanade {m[4]:4.0f} inliers, {m[5]:4.0f} right, "
-              f"error {m[6]:5.2f} px")
+        print(f"  gap {gap:2d} (flow {m[0]:5.1f} px):")
+        for k, name in enumerate(("SIFT", "SIFT refined by Lucas-Kanade", "Lucas-Kanade")):
+            c = m[1 + 4 * k: 5 + 4 * k]
+            print(f"    {name:<29} {c[0]:4.0f} inliers, {c[1]:4.0f} right, error {c[2]:5.2f} px, "
+                  f"flow bias {100 * c[3]:+6.2f} %")
 
 
 if __name__ == "__main__":

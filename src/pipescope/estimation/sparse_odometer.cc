@@ -55,6 +55,7 @@ void SparseOdometer::RestartAt(std::size_t frame_index, double timestamp, FrameF
                                const Eigen::Isometry3d& predicted) {
   if (!key_frames_.empty()) {
     key_frames_.back().features.descriptors.release();
+    key_frames_.back().features.pyramid.clear();
     ++summary_.restarts;
   }
   KeyFrame key;
@@ -122,8 +123,9 @@ void SparseOdometer::Promote(std::size_t frame_index, double timestamp, FrameFea
   key.features = std::move(features);
   KeepForRevisit(&key);
   AddContributions(&key);
-  // Only the newest key frame is matched again; older descriptors are not needed.
+  // Only the newest key frame is matched again; older descriptors and pyramids are not needed.
   key_frames_.back().features.descriptors.release();
+  key_frames_.back().features.pyramid.clear();
   key_frames_.push_back(std::move(key));
   summary_.key_frame_records.push_back(
       {frame_index, static_cast<int>(key_frames_.back().tracks.size()), tracked});

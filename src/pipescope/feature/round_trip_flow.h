@@ -13,9 +13,12 @@ struct RoundTripFlow {
   std::vector<double> round_trip_px;
 };
 
+// `starts` (may be null): where each forward search begins in `pyramid` (a match's position, to
+// be refined), instead of at the point itself.
 RoundTripFlow TrackThereAndBack(const std::vector<cv::Mat>& previous_pyramid,
                                 const std::vector<cv::Mat>& pyramid,
                                 const std::vector<cv::Point2f>& points, int window_px,
-                                int pyramid_levels);
+                                int pyramid_levels,
+                                const std::vector<cv::Point2f>* starts = nullptr);
 
 }  // namespace pipescope

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 
+#include "pipescope/feature/round_trip_flow.h"
 #include "pipescope/image/undistortion.h"
 
 namespace pipescope {
@@ -30,6 +32,14 @@ FrameFeatures SparseFeatures::Extract(const cv::Mat& corrected, StageTimes* time
   const StageClock<> sift;
   features.descriptors = DescribeWithSift(image, features.keypoints, options_.sift);
   sift.AddTo(times, "features_sift");
+  if (options_.match_refinement_window_px > 0) {
+    const StageClock<> pyramid;
+    const int window = options_.match_refinement_window_px;
+    cv::Mat grey8 = image;  // Lucas-Kanade takes 8-bit frames; the gain correction is float
+    if (image.depth() != CV_8U) image.convertTo(grey8, CV_8U);
+    cv::buildOpticalFlowPyramid(grey8, features.pyramid, cv::Size(window, window), 0);
+    pyramid.AddTo(times, "features_pyramid");
+  }
   features.bearings.resize(features.keypoints.size());
   features.has_bearing.resize(features.keypoints.size());
   for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
@@ -51,25 +61,67 @@ PairMatches SparseFeatures::Match(const FrameFeatures& key, const FrameFeatures&
     }
   }
   result.matched = static_cast<int>(candidates.size());
-  std::vector<Eigen::Vector3d> first, second;
-  for (const IndexMatch& match : candidates) {
-    first.push_back(key.bearings[match.first]);
-    second.push_back(frame.bearings[match.second]);
-  }
   matching.AddTo(times, "matching");
+  std::vector<cv::Point2f> positions;
+  std::vector<Eigen::Vector3d> bearings;
+  for (const IndexMatch& match : candidates) {
+    positions.push_back(frame.keypoints[match.second].position);
+    bearings.push_back(frame.bearings[match.second]);
+  }
+  const bool refine =
+      options_.match_refinement_window_px > 0 && !key.pyramid.empty() && !frame.pyramid.empty();
+  if (refine) {
+    const StageClock<> refinement;
+    Refine(key, frame, candidates, &positions, &bearings);
+    refinement.AddTo(times, "match_refinement");
+  }
   const StageClock<> ransac;
+  std::vector<Eigen::Vector3d> first;
+  for (const IndexMatch& match : candidates) first.push_back(key.bearings[match.first]);
   std::vector<bool> inlier;
-  FivePointRansacInliers(first, second, options_.ransac, &inlier);
+  FivePointRansacInliers(first, bearings, options_.ransac, &inlier);
   std::vector<cv::Point2f> from, to;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (!inlier[i]) continue;
     result.inliers.push_back(candidates[i]);
+    if (refine) {
+      result.refined_positions.push_back(positions[i]);
+      result.refined_bearings.push_back(bearings[i]);
+    }
     from.push_back(key.keypoints[candidates[i].first].position);
-    to.push_back(frame.keypoints[candidates[i].second].position);
+    to.push_back(positions[i]);
   }
   result.median_flow_px = MedianFlow(from, to);
   ransac.AddTo(times, "ransac");
   return result;
+}
+
+void SparseFeatures::Refine(const FrameFeatures& key, const FrameFeatures& frame,
+                            const std::vector<IndexMatch>& candidates,
+                            std::vector<cv::Point2f>* positions,
+                            std::vector<Eigen::Vector3d>* bearings) const {
+  std::vector<cv::Point2f> points;
+  for (const IndexMatch& match : candidates) points.push_back(key.keypoints[match.first].position);
+  const RoundTripFlow flow = TrackThereAndBack(key.pyramid, frame.pyramid, points,
+                                               options_.match_refinement_window_px, 0, positions);
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const cv::Point2f& moved = flow.forward[i];
+    Eigen::Vector3d bearing;
+    if (flow.round_trip_px[i] <= options_.match_refinement_max_round_trip_px &&
+        cv::norm(moved - (*positions)[i]) <= options_.match_refinement_max_move_px &&
+        camera_.Unproject(Eigen::Vector2d(moved.x, moved.y), &bearing)) {
+      (*positions)[i] = moved;
+      (*bearings)[i] = bearing;
+    }
+  }
+}
+
+void SparseFeatures::AdoptRefinedPositions(const PairMatches& matches, FrameFeatures* frame) {
+  for (std::size_t i = 0; i < matches.refined_positions.size(); ++i) {
+    const int index = matches.inliers[i].second;
+    frame->keypoints[index].position = matches.refined_positions[i];
+    frame->bearings[index] = matches.refined_bearings[i];
+  }
 }
 
 bool SparseFeatures::EndsSpan(const PairMatches& matches, int span_start_inliers) const {

@@ -215,6 +215,7 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
       span_start_inliers = 0;
       note_span_start(matches);  // the new span's first frame
     }
+    SparseFeatures::AdoptRefinedPositions(matches, &frame_features);
     record.matches = matches.matched;
     record.inliers = static_cast<int>(matches.inliers.size());
     if (record.inliers < options.min_correspondences) {

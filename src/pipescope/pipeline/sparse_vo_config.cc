@@ -28,6 +28,10 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           "feature_blur_sigma_px", [](O& o) -> double& { return o.features.blur_sigma_px; }, 0.0,
           20.0, "px", "Gaussian blur of the frame before detection and description, 0 = none"),
       Number<O>(
+          "match_refinement_window_px",
+          [](O& o) -> int& { return o.features.match_refinement_window_px; }, 0, 101, "px",
+          "Lucas-Kanade window that refines each match from the key frame's patch, 0 = none"),
+      Number<O>(
           "harris_k", [](O& o) -> double& { return o.features.harris.k; }, 0.0, 0.25, "",
           "region Harris: k of det - k trace^2"),
       Number<O>(
