@@ -173,6 +173,8 @@ int RunSparseOdometry(const OdometryFlags& flags) {
   }
   states.insert(states.end(), result.skipped_frames.size(), FrameState::kNotLocalised);
   report.Extra("cross_section_excursion_m") = result.cross_section_excursion_m;
+  // What the window adjustments used, where `options` gives what was configured.
+  report.Extra("cross_section_anchor_sigma_m") = result.cross_section_anchor_sigma_m;
   run.SetQuality(states, SparseVoVerdictReasons(result, options, *manifest.inner_radius_m));
   run.WriteTrajectory(result.trajectory);
   run.WriteKeyFrames(result.key_frames);

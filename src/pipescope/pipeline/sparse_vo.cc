@@ -103,9 +103,14 @@ SparseVoResult RunSparseVo(const DatasetManifest& manifest, const Camera& camera
   effective.odometer.window.hold_first_cross_section =
       options.hold_measured_start && start_measured && !WallDistanceMeasured(result.wall_distance);
   const Eigen::Isometry3d start = MountedStartPose(options.mount, radius, wall_distance);
-  // Without a measured start there is no place to anchor the cross-section to.
-  if (!start_measured) effective.odometer.window.cross_section_anchor_sigma_m = 0.0;
+  // Without a measured start there is no place to anchor the cross-section to; where the view
+  // measures the wall distance the images place the camera across the pipe themselves.
+  if (!start_measured ||
+      (WallDistanceMeasured(result.wall_distance) && !options.anchor_where_view_measures)) {
+    effective.odometer.window.cross_section_anchor_sigma_m = 0.0;
+  }
   effective.odometer.window.cross_section_anchor_xy = start.translation().head<2>();
+  result.cross_section_anchor_sigma_m = effective.odometer.window.cross_section_anchor_sigma_m;
   const cv::Mat gain_mask =
       ReadDatasetGainMask(manifest.gain_mask_path, camera.Width(), camera.Height());
 

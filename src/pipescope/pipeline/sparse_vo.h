@@ -28,6 +28,13 @@ struct SparseVoOptions {
   // measurement, which is off by where the crawler stood (docs/conditions.md: 6-inch, a start
   // 1.6 mm off, 0.919 % held against 0.023 % free).
   bool hold_measured_start = true;
+  // Whether the cross-section anchor (SparseOdometerOptions' window.cross_section_anchor_sigma_m)
+  // applies also where the view measures the wall distance. Off: there the images place the
+  // camera across the pipe, and the anchor only pulls that place towards the start's (6-inch
+  // matrix, five seeds, refined matches: sheen worst 0.273 % anchored, 0.197 % free; wander
+  // 0.090 % and 0.102 %; docs/sparse_vo.md). A narrow view keeps the anchor (16-inch, 25°: issue
+  // 22's independent rendering 1.54 % without it, 1.25 % with it).
+  bool anchor_where_view_measures = false;
   // Fewest inlier correspondences a frame needs to be localised at all.
   int min_correspondences = 12;
   // After this many frames in a row fail against the key frame (a stretch of wall too plain to
@@ -104,6 +111,9 @@ struct SparseVoResult {
   WallDistanceStatement wall_distance;
   // The farthest any key frame's estimated place in the cross-section is from the first's, m.
   double cross_section_excursion_m = 0.0;
+  // The σ (m) of the cross-section anchor the window adjustments used; 0: none (no measured
+  // start, or a view that measures the wall distance; SparseVoOptions::anchor_where_view_measures).
+  double cross_section_anchor_sigma_m = 0.0;
 };
 
 // Runs sparse VO over the dataset's frames; needs pipe.inner_radius_m. The dataset's gain mask

@@ -97,6 +97,10 @@ const OptionTable<SparseVoOptions>& SparseVoOptionTable() {
           "hold_measured_start", [](O& o) -> bool& { return o.hold_measured_start; },
           "hold the first key frame's place across the pipe where the start is measured"),
       Flag<O>(
+          "anchor_where_view_measures",
+          [](O& o) -> bool& { return o.anchor_where_view_measures; },
+          "keep the cross-section anchor where the view measures the wall distance"),
+      Flag<O>(
           "pipelined", [](O& o) -> bool& { return o.pipelined; },
           "read frames and extract features on a second thread (same results)"),
       Flag<O>(

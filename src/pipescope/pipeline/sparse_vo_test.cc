@@ -233,6 +233,34 @@ TEST(SparseVo, FaintTextureKeepsItsKeyFrameSpans) {
             std::abs(*absolute_metrics.distance_error_pct));
 }
 
+// The cross-section anchor holds the camera near the measured start only where the view cannot
+// measure the wall distance: through the narrow 25-degree lens it is used, through the 6-inch
+// preset's 70-degree one the images place the camera themselves, unless asked otherwise.
+TEST(SparseVo, TheAnchorHoldsOnlyWhereTheViewCannotMeasureTheWallDistance) {
+  SparseVoOptions options = HalfSizeOptions();
+  options.odometer.window.cross_section_anchor_sigma_m = 0.001;
+  const DatasetManifest narrow = OpenDataset(ShortSteelRun());
+  const SparseVoResult narrow_result = RunSparseVo(narrow, ReadCamera(narrow.camera_path), options);
+  EXPECT_FALSE(WallDistanceMeasured(narrow_result.wall_distance));
+  EXPECT_EQ(narrow_result.cross_section_anchor_sigma_m, 0.001);
+
+  const auto dir = MakeTestDirectory("sparse_vo_wide_anchor") / "steel6";
+  SimulationConfig config = PresetConfig("steel-6in");
+  config.width = 512;
+  config.height = 384;
+  config.frames = 20;
+  config.out_and_back = false;
+  config.white_card_count = 4;
+  SimulateDataset(config, dir);
+  const DatasetManifest wide = OpenDataset(dir);
+  const Camera camera = ReadCamera(wide.camera_path);
+  const SparseVoResult free = RunSparseVo(wide, camera, options);
+  EXPECT_TRUE(WallDistanceMeasured(free.wall_distance));
+  EXPECT_EQ(free.cross_section_anchor_sigma_m, 0.0);
+  options.anchor_where_view_measures = true;
+  EXPECT_EQ(RunSparseVo(wide, camera, options).cross_section_anchor_sigma_m, 0.001);
+}
+
 TEST(SparseVo, MissingRadiusIsAnInputError) {
   DatasetManifest manifest = OpenDataset(ShortSteelRun());
   manifest.inner_radius_m.reset();
