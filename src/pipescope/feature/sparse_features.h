@@ -30,7 +30,7 @@ struct SparseFeatureOptions {
   // Each descriptor match is moved to where Lucas-Kanade takes the key frame's patch around its
   // keypoint, starting at the matched keypoint, on the full-resolution image (beyond 000, whose
   // correspondences are the two frames' own Harris positions). Against the truth, on the 6-inch
-  // set-up's frames the matches erred a median 0.5-0.9 px (on the sheen, about half beyond 1 px)
+  // set-up's frames the matches erred a median 0.5-0.9 px (on the sheen 35-45 % beyond 1 px)
   // and the refined ones 0.05-0.2 px (bench/sparse_track_truth.py, docs/sparse_vo.md). The
   // window (px); 0: the keypoints' own positions.
   int match_refinement_window_px = 21;
